@@ -1,0 +1,40 @@
+#include "apps/cli.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+#include <vector>
+
+namespace penumbra::apps {
+
+glm::vec3 parseVec3(const std::string& option, const std::string& text) {
+  std::vector<float> v;
+  std::stringstream ss(text);
+  std::string part;
+  while (std::getline(ss, part, ',')) {
+    char* end = nullptr;
+    const float f = std::strtof(part.c_str(), &end);
+    if (part.empty() || end != part.c_str() + part.size() || !std::isfinite(f))
+      fail("option " + option, "expected three finite numbers X,Y,Z, got '" + text + "'");
+    v.push_back(f);
+  }
+  if (v.size() != 3) fail("option " + option, "expected three numbers X,Y,Z, got '" + text + "'");
+  return {v[0], v[1], v[2]};
+}
+
+void Progress::step(int index, int total, const std::string& what) {
+  if (!any_) tty_ = isatty(STDERR_FILENO) != 0;
+  any_ = true;
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  std::fprintf(stderr, "%s[%s %d/%d %.0fs] %s%s", tty_ ? "\r\033[K" : "", task_.c_str(), index, total, s, what.c_str(),
+               tty_ ? "" : "\n");
+  std::fflush(stderr);
+}
+
+void Progress::done() {
+  if (any_ && tty_) std::fprintf(stderr, "\r\033[K");
+}
+
+}  // namespace penumbra::apps

@@ -1,0 +1,96 @@
+#include <tbb/global_control.h>
+
+#include <cstdio>
+#include <memory>
+
+#include "apps/cli.h"
+#include "apps/commands.h"
+#include "engine/builtin_scenes.h"
+#include "engine/image_io.h"
+#include "engine/renderer.h"
+#include "engine/scene_file.h"
+#include "raster/conventions.h"
+
+namespace penumbra::apps {
+
+void allowThreads(int threads) {
+  static std::unique_ptr<tbb::global_control> control;
+  if (threads > 0)
+    control = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                     static_cast<size_t>(threads));
+}
+
+namespace {
+
+void checkSize(const char* option, int v) {
+  if (v < 1 || v > raster::kMaxTargetSize)
+    fail(std::string("option ") + option, "must be in [1, " + std::to_string(raster::kMaxTargetSize) + "], got " + std::to_string(v));
+}
+
+void checkThreads(int threads) {
+  if (threads < 0 || threads > 1024) fail("option --threads", "must be in [0, 1024], got " + std::to_string(threads));
+}
+
+}  // namespace
+
+int runRender(const RenderArgs& a) {
+  if (a.listBuiltins) {
+    for (const engine::BuiltinInfo& b : engine::builtinScenes()) std::printf("%-10s %s\n", b.name.c_str(), b.description.c_str());
+    return 0;
+  }
+  // Validate every option before any work or output.
+  checkSize("--width", a.width);
+  checkSize("--height", a.height);
+  checkThreads(a.threads);
+  if (!a.scene.empty() && !a.builtin.empty()) fail("render", "give a scene file or --builtin, not both");
+  if (a.fov != 0.0 && !(a.fov > 0.0 && a.fov < 180.0)) fail("option --fov", "must be in (0, 180) degrees");
+  std::optional<glm::vec3> eye, target;
+  if (!a.eye.empty()) eye = parseVec3("--eye", a.eye);
+  if (!a.target.empty()) target = parseVec3("--target", a.target);
+  const std::string output = a.output;
+  auto checkExt = [](const std::string& option, const std::string& path, const std::vector<std::string>& exts) {
+    const auto dot = path.find_last_of('.');
+    std::string ext = dot == std::string::npos ? "" : path.substr(dot);
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (const std::string& e : exts)
+      if (ext == e) return;
+    fail(path, "unsupported output type for " + option + " (expected " + exts[0] + ")");
+  };
+  if (!output.empty()) checkExt("--output", output, {".png"});
+  if (!a.exr.empty()) checkExt("--exr", a.exr, {".exr"});
+
+  allowThreads(a.threads);
+  engine::Result<engine::Scene> scene = a.scene.empty()
+                                            ? engine::makeBuiltinScene(a.builtin.empty() ? engine::kDefaultScene : a.builtin)
+                                            : engine::loadScene(a.scene);
+  if (!scene) fail(scene.error());
+
+  engine::RenderOptions options;
+  options.width = a.width;
+  options.height = a.height;
+  if (eye || target || a.fov != 0.0) {
+    engine::RenderOptions base = options;
+    engine::Camera cam = engine::chooseCamera(*scene, base);
+    if (eye) cam.eye = *eye;
+    if (target) cam.target = *target;
+    if (a.fov != 0.0) cam.fovYDegrees = static_cast<float>(a.fov);
+    if (cam.eye == cam.target) fail("option --eye", "camera eye and target coincide");
+    options.camera = cam;
+  }
+  engine::Renderer renderer(a.threads);
+  const engine::Frame frame = renderer.render(*scene, options);
+  const std::string path = output.empty() ? (scene->name.empty() ? std::string("penumbra") : scene->name) + ".png" : output;
+  if (engine::Status st = engine::writeImage(path, frame.color); !st) fail(st.error());
+  if (!a.exr.empty()) {
+    if (engine::Status st = engine::writeImage(a.exr, frame.linear); !st) fail(st.error());
+  }
+  if (a.stats) {
+    std::printf("scene '%s': %zu meshes, %zu instances, %zu triangles, %d threads\n", scene->name.c_str(),
+                scene->meshes.size(), scene->instances.size(), scene->triangleCount(), renderer.rasterizer().threads());
+    std::printf("%s", frame.stats.report().c_str());
+  }
+  std::printf("wrote %s (%dx%d)%s%s\n", path.c_str(), a.width, a.height, a.exr.empty() ? "" : " and ", a.exr.c_str());
+  return 0;
+}
+
+}  // namespace penumbra::apps

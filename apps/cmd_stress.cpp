@@ -1,0 +1,37 @@
+#include <cstdio>
+
+#include "apps/cli.h"
+#include "apps/commands.h"
+#include "apps/stress_raster.h"
+
+namespace penumbra::apps {
+
+int runStress(const StressArgs& a) {
+  if (a.threads < 0 || a.threads > 1024) fail("option --threads", "must be in [0, 1024]");
+  allowThreads(a.threads);
+  raster::Rasterizer rast({.threads = a.threads});
+  Progress progress("stress " + a.suite);
+  progress.step(1, 1, "raster cases");
+  const std::vector<StressRow> rows = runRasterStress(rast);
+  progress.done();
+  int broken = 0;
+  if (a.json) {
+    for (const StressRow& r : rows) std::printf("%s\n", r.json().c_str());
+  } else {
+    std::printf("%-24s %-44s %9s %7s %7s %7s %7s %7s  %s\n", "case", "parameter", "pixels", "cracks", "double", "nonfin",
+                "order", "clipped", "verdict");
+  }
+  for (const StressRow& r : rows) {
+    if (!r.ok()) ++broken;
+    if (!a.json)
+      std::printf("%-24s %-44s %9llu %7llu %7llu %7llu %7llu %7llu  %s%s%s\n", r.name.c_str(), r.param.c_str(),
+                  static_cast<unsigned long long>(r.pixels), static_cast<unsigned long long>(r.cracks),
+                  static_cast<unsigned long long>(r.doubles), static_cast<unsigned long long>(r.nonFinite),
+                  static_cast<unsigned long long>(r.depthErrors), static_cast<unsigned long long>(r.clipped),
+                  !r.judged ? "reported" : (r.ok() ? "ok" : "BROKEN"), r.note.empty() ? "" : ": ", r.note.c_str());
+  }
+  if (!a.json) std::printf("%zu cases, %d broken\n", rows.size(), broken);
+  return broken == 0 ? 0 : 1;
+}
+
+}  // namespace penumbra::apps

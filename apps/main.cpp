@@ -1,0 +1,89 @@
+// penumbra: the command line. Subcommands:
+//   render  render a scene file, glTF file or built-in scene to PNG (and EXR)
+//   bench   raster: time the standard workloads W1/W2 (shared/WORKLOADS.md)
+//   stress  raster: sweep the numerically hard cases and report what broke
+// Bad input (files, options, values) ends with one line on stderr and exit status 2, before any
+// output file is written.
+#include <tbb/global_control.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "apps/cli.h"
+#include "apps/commands.h"
+#include "engine/builtin_scenes.h"
+
+using namespace penumbra;
+using namespace penumbra::apps;
+
+int main(int argc, char** argv) {
+  CLI::App app{"penumbra: a deterministic CPU rasterizer and soft-shadow laboratory"};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Show help for all subcommands");
+
+  RenderArgs render;
+  CLI::App* r = app.add_subcommand("render", "Render a scene (file or built-in) to an image");
+  r->add_option("scene", render.scene, "Scene file: .json (scene format), .gltf or .glb");
+  r->add_option("--builtin", render.builtin, "Built-in scene name (default: " + std::string(engine::kDefaultScene) + ")");
+  r->add_flag("--list-builtins", render.listBuiltins, "List the built-in scenes and exit");
+  r->add_option("-o,--output", render.output, "Output PNG path (default: <scene name>.png)");
+  r->add_option("--exr", render.exr, "Also write the linear image as OpenEXR to this path");
+  r->add_option("--width", render.width, "Image width in pixels [1, 16384]");
+  r->add_option("--height", render.height, "Image height in pixels [1, 16384]");
+  r->add_option("--threads", render.threads, "Worker threads (0 = all cores)");
+  r->add_option("--eye", render.eye, "Camera position X,Y,Z");
+  r->add_option("--target", render.target, "Camera target X,Y,Z");
+  r->add_option("--fov", render.fov, "Vertical field of view in degrees (0, 180)");
+  r->add_flag("--stats", render.stats, "Print the frame plan: what each pass did and skipped");
+
+  BenchRasterArgs bench;
+  CLI::App* b = app.add_subcommand("bench", "Benchmarks");
+  b->require_subcommand(1);
+  CLI::App* br = b->add_subcommand("raster", "Time the standard workloads W1 (depth 2048^2) and W2 (shaded 1080p)");
+  br->add_option("--mesh", bench.meshes, "A .glb/.gltf/.json scene, flattened to one mesh (repeatable)");
+  br->add_option("--synth", bench.synth, "Synthetic mesh with about N triangles (repeatable; default 1000000 4000000)");
+  br->add_option("--threads", bench.threads, "Thread counts to run (default: 1 and 2)")->delimiter(',');
+  br->add_option("--workload", bench.workload, "W1, W2 or both")->check(CLI::IsMember({"W1", "W2", "both"}));
+  br->add_option("--frames", bench.frames, "Minimum timed frames per run (default 10)");
+  br->add_option("--min-time", bench.minSeconds, "Minimum seconds per run (default 1)");
+  br->add_flag("--json", bench.json, "One JSON object per run on stdout");
+
+  StressArgs stress;
+  CLI::App* s = app.add_subcommand("stress", "Sweep numerically hard cases; exit 1 if anything broke");
+  s->add_option("--suite", stress.suite, "Suite to run: raster")->check(CLI::IsMember({"raster"}));
+  s->add_option("--threads", stress.threads, "Worker threads (0 = all cores)");
+  s->add_flag("--json", stress.json, "One JSON object per case on stdout");
+
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string sub = argv[1];
+    if (sub != "render" && sub != "bench" && sub != "stress") {
+      std::fprintf(stderr, "penumbra: error: unknown subcommand '%s' (valid: render, bench, stress)\n", argv[1]);
+      return kExitBadInput;
+    }
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "penumbra: error: %s (see penumbra --help)\n", e.what());
+    return kExitBadInput;
+  }
+
+  try {
+    if (r->parsed()) return runRender(render);
+    if (br->parsed()) return runBenchRaster(bench);
+    if (s->parsed()) return runStress(stress);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "penumbra: error: %s\n", e.error.line().c_str());
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "penumbra: error: out of memory\n");
+    return kExitBadInput;
+  }
+  return 0;
+}

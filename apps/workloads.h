@@ -1,0 +1,41 @@
+// The standard rasterizer workloads W1 (depth-only 2048^2 shadow-map pass) and W2 (shaded 1080p
+// pass) of shared/WORKLOADS.md, on one world-space triangle mesh.
+#pragma once
+
+#include <glm/mat4x4.hpp>
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+#include "raster/pipeline.h"
+
+namespace penumbra::apps {
+
+struct WorkloadResult {
+  std::string name, workload, res;
+  size_t tris = 0;
+  int threads = 0;
+  int frames = 0;
+  double medianMs = 0, minMs = 0, maxMs = 0, mtrisPerS = 0;
+  raster::PassStats stats;  // of the last frame
+  std::string json() const;
+  std::string line() const;
+};
+
+// The view fit of WORKLOADS.md: c = bounding-box centre, r = largest distance from c to a vertex.
+struct ViewFit {
+  glm::vec3 centre{0.0f};
+  float radius = 1.0f;
+};
+ViewFit fitView(const engine::Mesh& mesh);
+
+glm::mat4 w1LightMatrix(const ViewFit& fit);
+glm::mat4 w2CameraMatrix(const ViewFit& fit, glm::vec3* lightDir);
+
+// Runs W1 or W2 ("W1", "W2") on `mesh` with `threads` threads: 3 warm-up frames, then at least
+// `minFrames` frames and `minSeconds`. Each frame clears and draws everything.
+WorkloadResult runWorkload(const std::string& workload, const std::string& meshName, const engine::Mesh& mesh,
+                           int threads, int minFrames, double minSeconds, raster::ImageRgba8* colorOut = nullptr,
+                           raster::DepthTarget* depthOut = nullptr);
+
+}  // namespace penumbra::apps

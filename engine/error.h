@@ -1,0 +1,40 @@
+// Error values for the boundaries of the library (file loading, scene validation, options).
+// Library code never exits the process: it returns an Error naming where and what; the CLI prints
+// Error::line() and exits with status 2.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <variant>
+
+namespace penumbra::engine {
+
+struct Error {
+  std::string where;  // a file path, "option --width", "scene 'x'", ...
+  std::string what;   // the problem, one line, no trailing period
+  std::string line() const { return where.empty() ? what : where + ": " + what; }
+};
+
+// Either a value or an Error.
+template <class T>
+class Result {
+ public:
+  Result(T value) : v_(std::move(value)) {}  // NOLINT: implicit by design
+  Result(Error error) : v_(std::move(error)) {}  // NOLINT
+  bool ok() const { return v_.index() == 0; }
+  explicit operator bool() const { return ok(); }
+  T& value() { return std::get<0>(v_); }
+  const T& value() const { return std::get<0>(v_); }
+  T& operator*() { return value(); }
+  T* operator->() { return &value(); }
+  const Error& error() const { return std::get<1>(v_); }
+
+ private:
+  std::variant<T, Error> v_;
+};
+
+// For operations that return nothing on success.
+struct Ok {};
+using Status = Result<Ok>;
+
+}  // namespace penumbra::engine

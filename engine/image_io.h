@@ -1,0 +1,45 @@
+// Image files through OpenImageIO: writing renders (PNG, EXR, anything OIIO writes, chosen by the
+// file extension) and reading textures as RGBA8, from a file or from memory.
+//
+// Writes never leave a partial file: the image goes to a temporary file in the destination
+// directory, which is renamed over the destination only once it is complete; on any failure the
+// temporary is removed and the destination is untouched.
+//
+// Pixel conventions: row 0 is the top row. Alpha is straight (not premultiplied) and is passed
+// through as is: OIIO's premultiplication on read and un-premultiplication on write are turned off.
+// ImageFloat4 holds linear RGBA: float formats (.exr,
+// .hdr, .tif, .tiff, .pfm) store it as 32-bit float as is; 8-bit formats store color clamped to
+// [0, 1] and sRGB-encoded, alpha clamped and linear. ImageFloat is data (depth, visibility, error):
+// float formats store it as is, 8-bit formats store it clamped to [0, 1], linearly, as gray.
+// Decoded images larger than kMaxImageSide per side or kMaxImagePixels in all are refused.
+//
+// Thread-safety: every function may be called from several threads at once (distinct paths).
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "engine/error.h"
+#include "raster/image.h"
+
+namespace penumbra::engine {
+
+inline constexpr int kMaxImageSide = 32768;
+inline constexpr size_t kMaxImagePixels = size_t{1} << 28;  // 1 GiB as RGBA8
+
+Status writeImage(const std::string& path, const raster::ImageRgba8& image);
+Status writeImage(const std::string& path, const raster::ImageFloat4& image);
+Status writeImage(const std::string& path, const raster::ImageFloat& image);
+
+// 1-channel images become gray (r = g = b), 2-channel gray + alpha, 3-channel RGB with alpha 255,
+// more than 4 channels keep the first four. Samples of other types are converted to 8 bits by
+// OIIO (rescaled, no transfer function applied).
+Result<raster::ImageRgba8> readImageRgba8(const std::string& path);
+
+// The same from encoded bytes in memory (a PNG or JPEG inside a glTF file, for instance). The
+// format is recognized from the data; nameForErrors names the source in errors and, when the data
+// is not recognized, its extension is tried as the format.
+Result<raster::ImageRgba8> decodeImageRgba8(const unsigned char* data, size_t size,
+                                           const std::string& nameForErrors);
+
+}  // namespace penumbra::engine

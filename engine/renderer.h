@@ -1,0 +1,74 @@
+// Renderer: plans and renders one frame of a Scene on the raster/ pipeline.
+//
+// The plan, printed with --stats: camera (given or fitted to the bounds), instances culled by
+// their world bounding box against the view frustum before any vertex work, one deferred
+// G-buffer pass (world position, normal, albedo, material) over the visible instances, then a
+// tile-parallel shading pass: Lambert diffuse plus Blinn-Phong specular from directional and point
+// lights and a constant ambient term; the background where nothing was drawn. Linear color is
+// written to an RGBA8 sRGB image and, on request, kept as float.
+//
+// Conventions: world space right-handed, y up; clip space zero-to-one depth, depth test less.
+// Thread-safety: a Renderer is not thread-safe (one frame at a time); frames are deterministic,
+// byte-identical whatever the thread count.
+#pragma once
+
+#include <glm/mat4x4.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+#include "raster/pipeline.h"
+
+namespace penumbra::engine {
+
+struct RenderOptions {
+  int width = 1280;    // pixels, [1, raster::kMaxTargetSize]
+  int height = 720;    // pixels, [1, raster::kMaxTargetSize]
+  std::optional<Camera> camera;  // overrides the scene's camera
+};
+
+// One texel of the G-buffer.
+struct GBufferTexel {
+  glm::vec3 position{0.0f};  // world space
+  glm::vec3 normal{0.0f};    // world space, unit, facing the viewer
+  glm::vec3 albedo{0.0f};    // linear base color
+  int32_t material = -1;     // -1: background
+};
+
+struct FrameStats {
+  size_t instances = 0, instancesCulled = 0;
+  size_t trianglesSubmitted = 0, trianglesSkippedByCulling = 0;
+  std::vector<std::string> culledNames;  // first few
+  raster::PassStats gbuffer;
+  double msCull = 0, msGbuffer = 0, msShade = 0, msTotal = 0;
+  std::string cameraSource;  // "scene", "options" or "fitted to bounds"
+  std::string report() const;
+};
+
+struct Frame {
+  raster::ImageRgba8 color;   // sRGB encoded
+  raster::ImageFloat4 linear; // linear radiance, alpha = coverage
+  raster::Image<GBufferTexel> gbuffer;
+  raster::DepthTarget depth;
+  FrameStats stats;
+  glm::mat4 viewProj{1.0f};
+};
+
+// The camera a frame uses: the override, else the scene's, else one framing the scene bounds
+// from above and in front (the bounds fill the view).
+Camera chooseCamera(const Scene& scene, const RenderOptions& options, std::string* source = nullptr);
+// Projection with znear/zfar fitted to the scene bounds when the camera leaves them at 0.
+glm::mat4 viewProjection(const Camera& camera, const Scene& scene, double aspect);
+
+class Renderer {
+ public:
+  explicit Renderer(int threads = 0);
+  Frame render(const Scene& scene, const RenderOptions& options);
+  raster::Rasterizer& rasterizer() { return raster_; }
+
+ private:
+  raster::Rasterizer raster_;
+};
+
+}  // namespace penumbra::engine

@@ -1,0 +1,101 @@
+#include "engine/scene.h"
+
+#include <glm/geometric.hpp>
+#include <cmath>
+#include <limits>
+
+namespace penumbra::engine {
+
+size_t Scene::triangleCount() const {
+  size_t n = 0;
+  for (const Instance& inst : instances) n += meshes[static_cast<size_t>(inst.mesh)].indices.size() / 3;
+  return n;
+}
+
+bool Scene::worldBounds(glm::vec3& lo, glm::vec3& hi) const {
+  lo = glm::vec3(std::numeric_limits<float>::max());
+  hi = -lo;
+  bool any = false;
+  for (const Instance& inst : instances) {
+    const Mesh& m = meshes[static_cast<size_t>(inst.mesh)];
+    if (m.positions.empty()) continue;
+    for (int c = 0; c < 8; ++c) {
+      const glm::vec3 p((c & 1) ? m.boundsMax.x : m.boundsMin.x, (c & 2) ? m.boundsMax.y : m.boundsMin.y,
+                        (c & 4) ? m.boundsMax.z : m.boundsMin.z);
+      const glm::vec3 w = glm::vec3(inst.transform * glm::vec4(p, 1.0f));
+      lo = glm::min(lo, w);
+      hi = glm::max(hi, w);
+      any = true;
+    }
+  }
+  return any;
+}
+
+void computeBounds(Mesh& mesh) {
+  if (mesh.positions.empty()) {
+    mesh.boundsMin = mesh.boundsMax = glm::vec3(0.0f);
+    return;
+  }
+  mesh.boundsMin = mesh.boundsMax = mesh.positions[0];
+  for (const glm::vec3& p : mesh.positions) {
+    mesh.boundsMin = glm::min(mesh.boundsMin, p);
+    mesh.boundsMax = glm::max(mesh.boundsMax, p);
+  }
+}
+
+void computeNormals(Mesh& mesh) {
+  std::vector<glm::dvec3> acc(mesh.positions.size(), glm::dvec3(0.0));
+  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+    const glm::dvec3 pa(mesh.positions[a]), pb(mesh.positions[b]), pc(mesh.positions[c]);
+    const glm::dvec3 n = glm::cross(pb - pa, pc - pa);  // length = 2 * area: area weighting
+    acc[a] += n;
+    acc[b] += n;
+    acc[c] += n;
+  }
+  mesh.normals.resize(mesh.positions.size());
+  for (size_t i = 0; i < acc.size(); ++i) {
+    const double len = glm::length(acc[i]);
+    mesh.normals[i] = len > 0.0 ? glm::vec3(acc[i] / len) : glm::vec3(0.0f, 1.0f, 0.0f);
+  }
+}
+
+Status validateScene(Scene& scene, const std::string& where) {
+  for (size_t mi = 0; mi < scene.meshes.size(); ++mi) {
+    Mesh& m = scene.meshes[mi];
+    const std::string what = "mesh " + std::to_string(mi) + (m.name.empty() ? "" : " '" + m.name + "'");
+    if (m.indices.size() % 3 != 0) return Error{where, what + ": index count " + std::to_string(m.indices.size()) + " is not a multiple of 3"};
+    for (size_t i = 0; i < m.indices.size(); ++i)
+      if (m.indices[i] >= m.positions.size())
+        return Error{where, what + ": index " + std::to_string(m.indices[i]) + " out of range (" +
+                                std::to_string(m.positions.size()) + " vertices)"};
+    for (const glm::vec3& p : m.positions)
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        return Error{where, what + ": non-finite vertex position"};
+    if (!m.texcoords.empty() && m.texcoords.size() != m.positions.size())
+      return Error{where, what + ": texcoord count differs from position count"};
+    if (m.normals.size() != m.positions.size()) computeNormals(m);
+    if (m.material >= static_cast<int>(scene.materials.size()))
+      return Error{where, what + ": material index " + std::to_string(m.material) + " out of range"};
+    computeBounds(m);
+  }
+  for (const Material& mat : scene.materials)
+    if (mat.baseColorTexture >= static_cast<int>(scene.textures.size()))
+      return Error{where, "material '" + mat.name + "': texture index out of range"};
+  for (const Instance& inst : scene.instances) {
+    if (inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size()))
+      return Error{where, "instance '" + inst.name + "': mesh index out of range"};
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(inst.transform[c][r])) return Error{where, "instance '" + inst.name + "': non-finite transform"};
+  }
+  if (scene.camera) {
+    const Camera& cam = *scene.camera;
+    if (!(cam.fovYDegrees > 0.0f && cam.fovYDegrees < 180.0f))
+      return Error{where, "camera field of view must be in (0, 180) degrees"};
+    if (glm::length(cam.target - cam.eye) <= 0.0f) return Error{where, "camera eye and target coincide"};
+  }
+  return Ok{};
+}
+
+}  // namespace penumbra::engine

@@ -1,0 +1,99 @@
+// Scene: what a frame renders, in world space (right-handed, y up, metres by convention).
+// Built by the glTF loader, the scene-file loader or a built-in generator; validated once by
+// validateScene(); immutable while rendered (thread-safe for concurrent reads).
+#pragma once
+
+#include <cstdint>
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/error.h"
+#include "raster/image.h"
+
+namespace penumbra::engine {
+
+// A base color texture: RGBA8 texels as stored (sRGB encoded), with its mip chain
+// (mips[0] is the full image, each next level halves width and height down to 1x1).
+struct Texture {
+  std::string name;
+  std::vector<raster::ImageRgba8> mips;
+};
+
+struct Material {
+  std::string name;
+  glm::vec4 baseColorFactor{1.0f};  // linear RGBA
+  int baseColorTexture = -1;        // index into Scene::textures, -1: none
+  float specular = 0.0f;            // Blinn-Phong specular weight [0, 1]
+  float shininess = 32.0f;          // Blinn-Phong exponent [1, 4096]
+};
+
+// One triangle list (one glTF primitive), in object space.
+struct Mesh {
+  std::string name;
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;    // same count as positions (computed when the source has none)
+  std::vector<glm::vec2> texcoords;  // empty, or same count as positions
+  std::vector<uint32_t> indices;     // 3 per triangle, each < positions.size()
+  int material = -1;                 // index into Scene::materials, -1: default material
+  glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // object-space bounding box of positions
+};
+
+// A mesh placed in the world (the node hierarchy flattened).
+struct Instance {
+  std::string name;
+  int mesh = 0;
+  glm::mat4 transform{1.0f};  // object to world
+};
+
+struct Camera {
+  glm::vec3 eye{0.0f, 1.0f, 5.0f};
+  glm::vec3 target{0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float fovYDegrees = 45.0f;  // vertical field of view, (0, 180)
+  float znear = 0.0f;         // 0: fitted to the scene bounds
+  float zfar = 0.0f;          // 0: fitted to the scene bounds
+};
+
+struct DirectionalLight {
+  glm::vec3 direction{0.0f, -1.0f, 0.0f};  // direction the light travels (towards the scene)
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;                  // irradiance scale, >= 0
+};
+
+struct PointLight {
+  glm::vec3 position{0.0f};
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;                  // radiant intensity, falls off with 1 / d^2; >= 0
+};
+
+struct Scene {
+  std::string name;
+  std::vector<Mesh> meshes;
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+  std::vector<Instance> instances;
+  std::optional<Camera> camera;  // none: the renderer frames the scene bounds
+  std::vector<DirectionalLight> directionalLights;
+  std::vector<PointLight> pointLights;
+  glm::vec3 ambient{0.08f};      // constant ambient term added to the lit color
+  glm::vec3 background{0.1f, 0.1f, 0.12f};
+
+  size_t triangleCount() const;
+  // World-space bounding box of all instances; false when the scene is empty.
+  bool worldBounds(glm::vec3& lo, glm::vec3& hi) const;
+};
+
+// Bounds and normals computed, references checked (mesh, material and texture indices, index
+// ranges), non-finite vertex positions reported. `where` names the source in the error.
+Status validateScene(Scene& scene, const std::string& where);
+
+// Area-weighted vertex normals (for meshes without normals).
+void computeNormals(Mesh& mesh);
+void computeBounds(Mesh& mesh);
+
+}  // namespace penumbra::engine

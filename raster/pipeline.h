@@ -1,0 +1,261 @@
+// Rasterizer: the pipeline of raster/ (DESIGN.md "The pipeline"), stage by stage:
+//
+//   vertex   user functor per vertex -> clip position (+ varyings); projected and snapped
+//            (setup.h projectVertex); non-finite positions flagged and counted.
+//   setup    per triangle, in parallel fixed-size chunks: frustum reject, homogeneous clipping for
+//            the triangles that need it (clip.h), snapping, facing and zero-area culling, exact
+//            edge functions (setup.h).
+//   bin      each chunk writes its own per-tile lists (CSR); a tile reads the chunks in index order,
+//            so submission order is preserved per tile whatever the scheduling.
+//   tile     one TBB task per tile (tile.h): hierarchical block reject/accept, coarse depth, SIMD
+//            coverage and early depth test.
+//   fragment (draw only) the user functor per pixel that passed, with perspective-correct
+//            barycentrics and varyings, in submission order within the tile.
+//
+// Thread-safety: a Rasterizer is not thread-safe (one draw at a time); it owns the TBB arena its
+// passes run in and the scratch buffers they reuse. Functors are called concurrently from several
+// threads: the vertex functor for distinct vertices, the fragment functor for distinct tiles.
+#pragma once
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
+
+#include <bit>
+#include <chrono>
+#include <cstdint>
+#include <glm/vec4.hpp>
+#include <span>
+#include <vector>
+
+#include "raster/clip.h"
+#include "raster/depth_target.h"
+#include "raster/setup.h"
+#include "raster/stats.h"
+#include "raster/tile.h"
+
+namespace penumbra::raster {
+
+struct RasterConfig {
+  int threads = 0;             // worker threads, 0 = all hardware threads; [0, 1024]
+  int tileLog2 = 6;            // tile side 2^tileLog2 pixels (default 64); [3, 10]
+  int chunkTriangles = 2048;   // triangles per binning chunk (fixed: not derived from threads); [64, 2^20]
+  // Triangles set up, binned and rasterized together. Bounding a batch keeps the set-up triangles
+  // (64 bytes each) in cache between the setup and tile stages; default 64K triangles = 4 MiB.
+  int batchChunks = 32;        // chunks per batch; [1, 2^20]
+};
+
+struct DrawDesc {
+  uint32_t vertexCount = 0;
+  std::span<const uint32_t> indices;  // 3 per triangle; empty: non-indexed, vertexCount / 3 triangles
+  int varyings = 0;                   // floats per vertex for the fragment stage, [0, kMaxVaryings]
+  CullMode cull = CullMode::None;
+  DepthFunc depthFunc = DepthFunc::Less;
+  bool depthWrite = true;
+};
+
+// What the fragment functor receives for one pixel.
+struct Fragment {
+  int x, y;
+  float depth;           // z / w, as written to the depth target
+  uint32_t primitive;    // triangle index in the draw
+  bool frontFacing;
+  float b0, b1, b2;      // perspective-correct barycentrics of the submitted vertices 0, 1, 2
+  const float* varyings; // DrawDesc::varyings floats, perspective-correct
+};
+
+namespace detail {
+struct Chunk {
+  std::vector<SetupTri> tris;
+  std::vector<SetupAttr> attrs;
+  std::vector<float> clipVary;          // varyings of vertices created by clipping
+  std::vector<uint32_t> tileOffsets;    // CSR: entries of tile t are [tileOffsets[t], tileOffsets[t+1])
+  std::vector<uint32_t> entries;        // indices into tris
+  std::vector<uint64_t> tileRect;       // per tri: packed tile bounding box (scratch)
+  PassStats stats;
+};
+struct TileScratch {
+  std::vector<const SetupTri*> tris;
+  std::vector<uint32_t> chunkOf;
+  std::vector<BlockHit> hits;
+};
+}  // namespace detail
+
+class Rasterizer {
+ public:
+  explicit Rasterizer(const RasterConfig& config = {});
+
+  const RasterConfig& config() const { return config_; }
+  int threads() const { return arena_.max_concurrency(); }
+  // Runs f inside this rasterizer's arena (so TBB loops in f use its threads).
+  template <class F>
+  auto run(F&& f) {
+    return arena_.execute(std::forward<F>(f));
+  }
+
+  // Clears depth and coarse depth, in parallel.
+  void clear(DepthTarget& depth, float value);
+
+  // Depth-only pass (shadow maps): vs(uint32_t vertex) -> glm::vec4 clip position. No varyings,
+  // no fragment stage.
+  template <class VS>
+  PassStats drawDepth(const DrawDesc& desc, DepthTarget& depth, VS&& vs);
+
+  // Full pass: vs(uint32_t vertex, float* varyings) -> glm::vec4 clip position, writing
+  // desc.varyings floats; fs(const Fragment&) for every pixel that passes the depth test. The
+  // fragment functor writes its own targets (any number, any pixel type) at (x, y).
+  template <class VS, class FS>
+  PassStats draw(const DrawDesc& desc, DepthTarget& depth, VS&& vs, FS&& fs);
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  using FragmentSink = void (*)(void* user, const detail::TileScratch& scratch, const Rasterizer& self);
+
+  template <class VS, bool kVary>
+  void vertexStage(uint32_t count, int nv, VS& vs, const Viewport& vp, PassStats& stats);
+  // Setup and binning of triangles [first, last) of the draw into chunks_.
+  void frontEnd(const DrawDesc& desc, const Viewport& vp, bool wantAttrs, uint64_t first, uint64_t last,
+                PassStats& stats);
+  // Tile stage of what frontEnd binned; per-tile counters accumulate in tileStats_.
+  void tileStage(const DrawDesc& desc, DepthTarget& depth, FragmentSink sink, void* user);
+  // Front end and tile stage, batch after batch, and the stats of both.
+  void runBatches(const DrawDesc& desc, DepthTarget& depth, bool wantAttrs, FragmentSink sink, void* user,
+                  PassStats& stats);
+  template <class FS>
+  static void shadeTile(void* user, const detail::TileScratch& scratch, const Rasterizer& self);
+  static double ms(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  }
+
+  RasterConfig config_;
+  tbb::task_arena arena_;
+  int nv_ = 0;
+  std::vector<glm::vec4> clip_;
+  std::vector<ScreenVert> screen_;
+  std::vector<float> vary_;
+  std::vector<detail::Chunk> chunks_;
+  size_t chunkCount_ = 0;
+  int tilesX_ = 0, tilesY_ = 0;
+  tbb::enumerable_thread_specific<detail::TileScratch> scratch_;
+  std::vector<PassStats> tileStats_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Templates.
+
+template <class VS, bool kVary>
+void Rasterizer::vertexStage(uint32_t count, int nv, VS& vs, const Viewport& vp, PassStats& stats) {
+  clip_.resize(count);
+  screen_.resize(count);
+  vary_.resize(static_cast<size_t>(count) * static_cast<size_t>(nv));
+  stats.verticesIn = count;
+  stats.verticesNonFinite = tbb::parallel_reduce(
+      tbb::blocked_range<uint32_t>(0, count, 4096), uint64_t{0},
+      [&](const tbb::blocked_range<uint32_t>& r, uint64_t bad) {
+        for (uint32_t i = r.begin(); i != r.end(); ++i) {
+          glm::vec4 c;
+          if constexpr (kVary) {
+            c = vs(i, vary_.data() + static_cast<size_t>(i) * static_cast<size_t>(nv));
+          } else {
+            c = vs(i);
+          }
+          clip_[i] = c;
+          screen_[i] = projectVertex(c.x, c.y, c.z, c.w, vp);
+          bad += (screen_[i].flags & kNonFinite) ? 1 : 0;
+        }
+        return bad;
+      },
+      [](uint64_t a, uint64_t b) { return a + b; });
+}
+
+template <class VS>
+PassStats Rasterizer::drawDepth(const DrawDesc& desc, DepthTarget& depth, VS&& vs) {
+  PassStats stats;
+  arena_.execute([&] {
+    const auto t0 = Clock::now();
+    const Viewport vp{depth.width(), depth.height()};
+    nv_ = 0;
+    vertexStage<VS, false>(desc.vertexCount, 0, vs, vp, stats);
+    const auto t1 = Clock::now();
+    runBatches(desc, depth, false, nullptr, nullptr, stats);
+    stats.msVertex = ms(t0, t1);
+    stats.msTotal = ms(t0, Clock::now());
+  });
+  return stats;
+}
+
+template <class VS, class FS>
+PassStats Rasterizer::draw(const DrawDesc& desc, DepthTarget& depth, VS&& vs, FS&& fs) {
+  PassStats stats;
+  arena_.execute([&] {
+    const auto t0 = Clock::now();
+    const Viewport vp{depth.width(), depth.height()};
+    nv_ = desc.varyings;
+    vertexStage<VS, true>(desc.vertexCount, nv_, vs, vp, stats);
+    const auto t1 = Clock::now();
+    using F = std::remove_reference_t<FS>;
+    runBatches(desc, depth, true, &Rasterizer::shadeTile<F>, const_cast<void*>(static_cast<const void*>(&fs)), stats);
+    stats.msVertex = ms(t0, t1);
+    stats.msTotal = ms(t0, Clock::now());
+  });
+  return stats;
+}
+
+template <class FS>
+void Rasterizer::shadeTile(void* user, const detail::TileScratch& s, const Rasterizer& self) {
+  FS& fs = *static_cast<FS*>(user);
+  const int nv = self.nv_;
+  float vary[kMaxVaryings + 3];
+  for (const BlockHit& h : s.hits) {
+    const SetupTri& t = *s.tris[h.tri];
+    const detail::Chunk& ch = self.chunks_[s.chunkOf[h.tri]];
+    // Attributes are stored one to one with the chunk's triangles.
+    const SetupAttr& a = ch.attrs[static_cast<size_t>(&t - ch.tris.data())];
+    // Clipped triangles carry, after their varyings, the barycentrics of the submitted triangle.
+    const size_t stride = static_cast<size_t>(nv) + (a.clipped ? 3 : 0);
+    const float* v[3];
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t ref = a.vary[k];
+      v[k] = (ref & kChunkLocalVarying) ? ch.clipVary.data() + static_cast<size_t>(ref & ~kChunkLocalVarying) * stride
+                                        : self.vary_.data() + static_cast<size_t>(ref) * stride;
+    }
+    const int nInterp = static_cast<int>(stride);
+    Fragment f;
+    f.primitive = t.primitive;
+    f.frontFacing = a.frontFacing;
+    f.varyings = vary;
+    uint64_t m = h.mask;
+    while (m) {
+      const int bit = std::countr_zero(m);
+      m &= m - 1;
+      f.x = h.bx * kBlockSize + (bit & (kBlockSize - 1));
+      f.y = h.by * kBlockSize + (bit >> kBlockLog2);
+      const float dx = static_cast<float>(f.x - t.minX), dy = static_cast<float>(f.y - t.minY);
+      const float sw = (a.sw0 + a.swx * dx) + a.swy * dy;
+      const float s1 = (a.s10 + a.s1x * dx) + a.s1y * dy;
+      const float s2 = (a.s20 + a.s2x * dx) + a.s2y * dy;
+      const float iw = 1.0f / sw;
+      const float b1 = s1 * iw, b2 = s2 * iw, b0 = 1.0f - b1 - b2;
+      for (int c = 0; c < nInterp; ++c) vary[c] = v[0][c] * b0 + v[1][c] * b1 + v[2][c] * b2;
+      f.depth = depthAt(t, f.x, f.y);
+      if (a.clipped) {
+        f.b0 = vary[nv];
+        f.b1 = vary[nv + 1];
+        f.b2 = vary[nv + 2];
+      } else {
+        // The planes are in setup (ordered) vertex order; a.order maps back to submission order.
+        float sb[3];
+        sb[a.order[0]] = b0;
+        sb[a.order[1]] = b1;
+        sb[a.order[2]] = b2;
+        f.b0 = sb[0];
+        f.b1 = sb[1];
+        f.b2 = sb[2];
+      }
+      fs(f);
+    }
+  }
+}
+
+}  // namespace penumbra::raster

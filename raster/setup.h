@@ -1,0 +1,107 @@
+// Triangle setup: from clip-space vertices to snapped fixed-point triangles with exact integer edge
+// functions (conventions in raster/conventions.h). Also the per-vertex projection used by the
+// vertex stage and the homogeneous clipper (clip.h) for the triangles that need it.
+//
+// All functions here are pure; safe to call from any thread.
+#pragma once
+
+#include <cstdint>
+
+#include "raster/conventions.h"
+
+namespace penumbra::raster {
+
+// Outcodes and flags of a projected vertex.
+enum VertexFlags : uint32_t {
+  kOutLeft = 1u << 0,   // x < -w
+  kOutRight = 1u << 1,  // x >  w
+  kOutBottom = 1u << 2, // y < -w
+  kOutTop = 1u << 3,    // y >  w
+  kOutNear = 1u << 4,   // z < 0
+  kOutFar = 1u << 5,    // z >  w
+  kOutGuard = 1u << 6,  // projects outside the guard band (or w <= 0): must be clipped
+  kNonFinite = 1u << 7, // NaN or Inf in the clip position: dropped
+  kFrustumMask = 0x3fu,
+  kNeedsClip = kOutNear | kOutFar | kOutGuard,
+};
+
+struct Viewport {
+  int width = 0, height = 0;
+};
+
+// A vertex after the vertex stage: snapped screen position (valid when no kNeedsClip/kNonFinite
+// flag is set), z/w and 1/w.
+struct ScreenVert {
+  int32_t x = 0, y = 0;  // fixed point, pixel centre (i, j) at (256 i, 256 j)
+  float z = 0;           // z / w
+  float iw = 0;          // 1 / w
+  uint32_t flags = 0;
+};
+
+ScreenVert projectVertex(float x, float y, float z, float w, const Viewport& vp);
+
+// A triangle ready for the tile stage: one 64-byte cache line, all the depth-only path reads.
+// Edge k runs from vertex k to vertex k+1; its coefficients and fill-rule bias are derived from the
+// vertices where needed (edgeCoefficients), which is cheaper than reading them from memory.
+struct alignas(64) SetupTri {
+  int32_t vx[3], vy[3];    // snapped vertices, ordered so that the doubled area is > 0
+  int32_t minX, minY, maxX, maxY;  // inclusive pixel bounding box, clamped to the viewport
+  float z0, zx, zy;        // depth plane: z(i, j) = z0 + zx (i - minX) + zy (j - minY), clamped
+  float zmin, zmax;        // to [zmin, zmax], the vertices' range (keeps coarse depth exact)
+  uint32_t primitive;      // triangle index in the draw
+};
+static_assert(sizeof(SetupTri) == 64);
+
+// E_k(p) = A (p.x - v_k.x) + B (p.y - v_k.y) - bias; inside iff E_k >= 0 for k = 0, 1, 2.
+struct EdgeCoefficients {
+  int32_t a[3], b[3];
+  int32_t bias[3];  // 0 on top-left edges (E >= 0 inside), 1 otherwise (E > 0 inside)
+};
+inline EdgeCoefficients edgeCoefficients(const SetupTri& t) {
+  EdgeCoefficients e;
+  for (int k = 0; k < 3; ++k) {
+    const int n = k == 2 ? 0 : k + 1;
+    const int32_t dx = t.vx[n] - t.vx[k], dy = t.vy[n] - t.vy[k];
+    e.a[k] = -dy;
+    e.b[k] = dx;
+    e.bias[k] = (dy < 0 || (dy == 0 && dx > 0)) ? 0 : 1;  // top-left rule, conventions.h
+  }
+  return e;
+}
+
+// Perspective-correct interpolation planes (fragment path only), same origin as the depth plane:
+// s(i, j) = s0 + sx (i - minX) + sy (j - minY) for s = 1/w (sw), l1/w1 (s1), l2/w2 (s2), where
+// l_k are the screen-space barycentrics of the ordered vertices.
+struct SetupAttr {
+  float sw0, swx, swy;
+  float s10, s1x, s1y;
+  float s20, s2x, s2y;
+  uint32_t vary[3];  // varyings of the ordered vertices; top bit set: chunk-local (clipped) vertex
+  uint8_t order[3];  // submitted vertex (0..2) of each ordered vertex
+  bool clipped;      // made by the clipper: varyings are followed by 3 submitted barycentrics
+  bool frontFacing;
+};
+inline constexpr uint32_t kChunkLocalVarying = 0x80000000u;
+
+enum class SetupResult : uint8_t { Ok, CulledFacing, Degenerate, NoSample };
+
+// Sets up the triangle (v0, v1, v2) as submitted. On Ok, `out` is filled except primitive;
+// `attr`, when non-null, receives the interpolation planes and `order` the submitted vertex
+// index (0..2) of each ordered vertex.
+SetupResult setupTriangle(const ScreenVert& v0, const ScreenVert& v1, const ScreenVert& v2, CullMode cull,
+                          const Viewport& vp, SetupTri& out, SetupAttr* attr, int order[3]);
+
+// Edge value of edge k at pixel (i, j), exact, bias applied: inside iff >= 0 for all k.
+inline int64_t edgeAt(const SetupTri& t, const EdgeCoefficients& e, int k, int64_t i, int64_t j) {
+  return int64_t{e.a[k]} * (i * kSubpixelOne - t.vx[k]) + int64_t{e.b[k]} * (j * kSubpixelOne - t.vy[k]) - e.bias[k];
+}
+
+// Depth of the triangle's plane at pixel (i, j), exactly as the tile stage computes it.
+inline float depthAt(const SetupTri& t, int i, int j) {
+  const float dx = static_cast<float>(i - t.minX), dy = static_cast<float>(j - t.minY);
+  float z = (t.z0 + t.zx * dx) + t.zy * dy;
+  z = z < t.zmin ? t.zmin : z;
+  return z > t.zmax ? t.zmax : z;
+}
+
+}  // namespace penumbra::raster

@@ -1,0 +1,230 @@
+// SIMD tile rasterization (see tile.h), compiled once per Highway target.
+//
+// Exact 32-bit lanes. Inside a block that an edge crosses, with E(i, j) = E00 + 256 A i + 256 B j
+// at the block's pixel centres (bias included), write E00 = 256 q + r with 0 <= r < 256
+// (q = E00 >> 8). Then E(i, j) >= 0  <=>  q + A i + B j >= -r / 256  <=>  q + A i + B j >= 0, as
+// the left side is an integer and -r/256 lies in (-1, 0]. Because the edge crosses the block,
+// |q| <= 7 (|A| + |B|) + 1 <= 2^28 (|A|, |B| <= 2^24, conventions.h), so q + A i + B j fits in
+// int32 exactly. Edges that hold for the whole block are replaced by the constant 0 (always in).
+//
+// Depth per pixel: z = (z0 + zx dx) + zy dy with dx, dy the integer offsets from the triangle's
+// plane origin, clamped to the triangle's [zmin, zmax] — the same expression as depthAt() in
+// setup.h, evaluated in the same order without FMA, so every target gives the same bits.
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "raster/tile_kernels.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <bit>
+
+#include "raster/tile.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace penumbra::raster {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+namespace {
+
+
+// Counters kept in registers during a tile, added to PassStats once at the end.
+struct Counters {
+  uint64_t blocksTested = 0, rejectedEdge = 0, rejectedDepth = 0, accepted = 0, partial = 0;
+  uint64_t pixelsTested = 0, pixelsCovered = 0, pixelsPassed = 0;
+};
+
+// One 8x8 block of a triangle: coverage from the exact edge values e[k] at the block's (0, 0)
+// pixel (bias included; whole[k]: edge k holds for the whole block), coarse depth, SIMD depth test
+// and write. Only rows and columns inside the triangle's bounding box are evaluated.
+template <bool kWantHits>
+HWY_INLINE void rasterBlock(const TileJob& job, const SetupTri& t, const EdgeCoefficients& ec, int bx, int by,
+                            const int64_t e[3], const bool whole[3], uint32_t triIndex, Counters& c) {
+  const hn::CappedTag<int32_t, 8> di;
+  const hn::Rebind<float, decltype(di)> df;
+  const int N = static_cast<int>(hn::Lanes(di));
+  const size_t bi = static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx);
+  const bool less = job.func == DepthFunc::Less, greater = job.func == DepthFunc::Greater;
+  if ((less && t.zmin >= job.blockMax[bi]) || (greater && t.zmax <= job.blockMin[bi])) {
+    // Coarse depth: every depth of this triangle is at or behind everything stored here.
+    ++c.rejectedDepth;
+    return;
+  }
+  const int px0 = bx * kBlockSize, py0 = by * kBlockSize;
+  int32_t q[3], sa[3], sb[3];
+  for (int k = 0; k < 3; ++k) {
+    q[k] = whole[k] ? 0 : static_cast<int32_t>(e[k] >> kSubpixelBits);
+    sa[k] = whole[k] ? 0 : ec.a[k];
+    sb[k] = whole[k] ? 0 : ec.b[k];
+  }
+  const int rowBegin = std::max(t.minY - py0, 0), rowEnd = std::min(t.maxY - py0 + 1, kBlockSize);
+  const int colBegin = std::max(t.minX - px0, 0), colEnd = std::min(t.maxX - px0 + 1, kBlockSize);
+  const auto iota = hn::Iota(di, 0);
+  const auto colLo = hn::Set(di, colBegin - 1), colHi = hn::Set(di, colEnd);
+  const auto vzmin = hn::Set(df, t.zmin), vzmax = hn::Set(df, t.zmax);
+  uint64_t passMask = 0;
+  size_t covered = 0;
+  float* depthBlock = job.depth + static_cast<size_t>(py0) * static_cast<size_t>(job.depthStride) + px0;
+  for (int i0 = 0; i0 < kBlockSize; i0 += N) {
+    if (i0 >= colEnd || i0 + N <= colBegin) continue;
+    const auto lane = hn::Add(iota, hn::Set(di, i0));
+    const auto colMask = hn::And(hn::Gt(lane, colLo), hn::Lt(lane, colHi));
+    // Edge values at row rowBegin, stepped by B per row.
+    auto e0 = hn::Add(hn::Set(di, q[0] + sb[0] * rowBegin), hn::Mul(lane, hn::Set(di, sa[0])));
+    auto e1 = hn::Add(hn::Set(di, q[1] + sb[1] * rowBegin), hn::Mul(lane, hn::Set(di, sa[1])));
+    auto e2 = hn::Add(hn::Set(di, q[2] + sb[2] * rowBegin), hn::Mul(lane, hn::Set(di, sa[2])));
+    const auto b0 = hn::Set(di, sb[0]), b1 = hn::Set(di, sb[1]), b2 = hn::Set(di, sb[2]);
+    const auto dx = hn::ConvertTo(df, hn::Add(lane, hn::Set(di, px0 - t.minX)));
+    const auto zrow = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.zx), dx));
+    for (int j = rowBegin; j < rowEnd; ++j) {
+      float* drow = depthBlock + static_cast<size_t>(j) * static_cast<size_t>(job.depthStride);
+      const auto inside = hn::Gt(hn::Or(hn::Or(e0, e1), e2), hn::Set(di, -1));  // all three >= 0
+      const auto mf = hn::RebindMask(df, hn::And(colMask, inside));
+      auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(py0 + j - t.minY)));
+      z = hn::Min(hn::Max(z, vzmin), vzmax);
+      const auto old = hn::LoadU(df, drow + i0);
+      auto pass = mf;
+      if (less) pass = hn::And(pass, hn::Lt(z, old));
+      else if (greater) pass = hn::And(pass, hn::Gt(z, old));
+      if (job.depthWrite) hn::StoreU(hn::IfThenElse(pass, z, old), df, drow + i0);
+      uint8_t bits[8] = {0};
+      hn::StoreMaskBits(df, pass, bits);
+      const uint64_t laneBits = (N >= 8) ? 0xffu : ((1u << N) - 1u);
+      passMask |= (uint64_t{bits[0]} & laneBits) << (j * kBlockSize + i0);
+      covered += hn::CountTrue(df, mf);
+      e0 = hn::Add(e0, b0);
+      e1 = hn::Add(e1, b1);
+      e2 = hn::Add(e2, b2);
+    }
+  }
+  c.pixelsTested += static_cast<uint64_t>((rowEnd - rowBegin) * (colEnd - colBegin));
+  c.pixelsCovered += covered;
+  c.pixelsPassed += static_cast<uint64_t>(std::popcount(passMask));
+  if (passMask == 0) return;
+  if (job.depthWrite) {
+    // Refresh the coarse bound the test needs from the block's 64 stored values (padding
+    // included); the other bound is widened conservatively.
+    if (less || greater) {
+      auto v = hn::LoadU(df, depthBlock);
+      for (int j = 0; j < kBlockSize; ++j) {
+        const float* drow = depthBlock + static_cast<size_t>(j) * static_cast<size_t>(job.depthStride);
+        for (int i0 = 0; i0 < kBlockSize; i0 += N) v = less ? hn::Max(v, hn::LoadU(df, drow + i0)) : hn::Min(v, hn::LoadU(df, drow + i0));
+      }
+      if (less) {
+        job.blockMax[bi] = hn::GetLane(hn::MaxOfLanes(df, v));
+        job.blockMin[bi] = std::min(job.blockMin[bi], t.zmin);
+      } else {
+        job.blockMin[bi] = hn::GetLane(hn::MinOfLanes(df, v));
+        job.blockMax[bi] = std::max(job.blockMax[bi], t.zmax);
+      }
+    } else {
+      job.blockMin[bi] = std::min(job.blockMin[bi], t.zmin);
+      job.blockMax[bi] = std::max(job.blockMax[bi], t.zmax);
+    }
+  }
+  if constexpr (kWantHits) {
+    job.hits->push_back(BlockHit{triIndex, static_cast<uint16_t>(bx), static_cast<uint16_t>(by), passMask});
+  }
+}
+
+template <bool kWantHits>
+void rasterTriangle(const TileJob& job, const SetupTri& t, uint32_t triIndex, Counters& c) {
+  const int x0 = std::max(t.minX, job.x0), x1 = std::min(t.maxX + 1, job.x1);
+  const int y0 = std::max(t.minY, job.y0), y1 = std::min(t.maxY + 1, job.y1);
+  if (x0 >= x1 || y0 >= y1) return;
+  const int bx0 = x0 >> kBlockLog2, bx1 = (x1 - 1) >> kBlockLog2;
+  const int by0 = y0 >> kBlockLog2, by1 = (y1 - 1) >> kBlockLog2;
+  const EdgeCoefficients ec = edgeCoefficients(t);
+  int64_t e[3];
+  for (int k = 0; k < 3; ++k) e[k] = edgeAt(t, ec, k, int64_t{bx0} * kBlockSize, int64_t{by0} * kBlockSize);
+
+  const int32_t spanX = std::max({t.vx[0], t.vx[1], t.vx[2]}) - std::min({t.vx[0], t.vx[1], t.vx[2]});
+  const int32_t spanY = std::max({t.vy[0], t.vy[1], t.vy[2]}) - std::min({t.vy[0], t.vy[1], t.vy[2]});
+  if (bx0 == bx1 && by0 == by1 && spanX < kBlockSize * kSubpixelOne && spanY < kBlockSize * kSubpixelOne) {
+    // The common small triangle: narrower than a block, its samples inside one block. No
+    // block-level test: every vertex lies within two block widths of every pixel of the block and
+    // |A|, |B| < 8 * 256, so |E| < 2^24 and E >> 8 easily fits the 32-bit lanes.
+    ++c.blocksTested;
+    ++c.partial;
+    const bool whole[3] = {false, false, false};
+    rasterBlock<kWantHits>(job, t, ec, bx0, by0, e, whole, triIndex, c);
+    return;
+  }
+
+  int64_t stepX[3], stepY[3], extMax[3], extMin[3];
+  for (int k = 0; k < 3; ++k) {
+    const int64_t a = int64_t{ec.a[k]} * kSubpixelOne, b = int64_t{ec.b[k]} * kSubpixelOne;
+    stepX[k] = a * kBlockSize;
+    stepY[k] = b * kBlockSize;
+    // Range of E over the block's pixel centres, relative to its (0, 0) pixel.
+    extMax[k] = std::max<int64_t>(0, a * (kBlockSize - 1)) + std::max<int64_t>(0, b * (kBlockSize - 1));
+    extMin[k] = std::min<int64_t>(0, a * (kBlockSize - 1)) + std::min<int64_t>(0, b * (kBlockSize - 1));
+  }
+  for (int by = by0; by <= by1; ++by) {
+    int64_t eb[3] = {e[0], e[1], e[2]};
+    for (int bx = bx0; bx <= bx1; ++bx) {
+      ++c.blocksTested;
+      bool reject = false, whole[3];
+      for (int k = 0; k < 3; ++k) {
+        reject |= eb[k] + extMax[k] < 0;
+        whole[k] = eb[k] + extMin[k] >= 0;
+      }
+      if (reject) {
+        ++c.rejectedEdge;
+      } else {
+        if (whole[0] && whole[1] && whole[2]) ++c.accepted; else ++c.partial;
+        rasterBlock<kWantHits>(job, t, ec, bx, by, eb, whole, triIndex, c);
+      }
+      for (int k = 0; k < 3; ++k) eb[k] += stepX[k];
+    }
+    for (int k = 0; k < 3; ++k) e[k] += stepY[k];
+  }
+}
+
+}  // namespace
+
+void RasterizeTileImpl(const TileJob& job, PassStats& st) {
+  Counters c;
+  // The triangles come from memory the setup stage wrote long ago: prefetch a few ahead.
+  constexpr uint32_t kAhead = 8;
+  if (job.hits) {
+    for (uint32_t i = 0; i < job.count; ++i) {
+      if (i + kAhead < job.count) __builtin_prefetch(job.tris[i + kAhead]);
+      rasterTriangle<true>(job, *job.tris[i], i, c);
+    }
+  } else {
+    for (uint32_t i = 0; i < job.count; ++i) {
+      if (i + kAhead < job.count) __builtin_prefetch(job.tris[i + kAhead]);
+      rasterTriangle<false>(job, *job.tris[i], i, c);
+    }
+  }
+  st.blocksTested += c.blocksTested;
+  st.blocksRejectedEdge += c.rejectedEdge;
+  st.blocksRejectedDepth += c.rejectedDepth;
+  st.blocksAccepted += c.accepted;
+  st.blocksPartial += c.partial;
+  st.pixelsTested += c.pixelsTested;
+  st.pixelsCovered += c.pixelsCovered;
+  st.pixelsDepthPassed += c.pixelsPassed;
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace penumbra::raster
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace penumbra::raster {
+
+HWY_EXPORT(RasterizeTileImpl);
+
+void rasterizeTile(const TileJob& job, PassStats& stats) { HWY_DYNAMIC_DISPATCH(RasterizeTileImpl)(job, stats); }
+
+std::vector<int64_t> supportedSimdTargets() { return hwy::SupportedAndGeneratedTargets(); }
+
+const char* simdTargetName(int64_t target) { return hwy::TargetName(target); }
+
+void forceSimdTarget(int64_t target) { hwy::SetSupportedTargetsForTest(target); }
+
+}  // namespace penumbra::raster
+#endif

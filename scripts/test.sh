@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs what is missing (Debian 12 packages), builds everything and runs the whole test suite:
+#   1. Release build, all tests (labels: unit, cli);
+#   2. AddressSanitizer + UndefinedBehaviorSanitizer build of the unit tests.
+# Set PENUMBRA_SKIP_SANITIZE=1 to run only the first part.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+jobs=${PENUMBRA_JOBS:-2}
+
+echo "== Release build and tests"
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build/release -j"$jobs"
+ctest --test-dir build/release -j"$jobs" --output-on-failure --timeout 900
+
+if [ "${PENUMBRA_SKIP_SANITIZE:-0}" != 1 ]; then
+  echo "== ASan + UBSan build of the unit tests"
+  cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPENUMBRA_SANITIZE=ON \
+    -DPENUMBRA_BUILD_APPS=OFF >/dev/null
+  cmake --build build/sanitize -j"$jobs"
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    ctest --test-dir build/sanitize -j"$jobs" -L unit --output-on-failure --timeout 1800
+fi

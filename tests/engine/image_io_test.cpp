@@ -1,0 +1,204 @@
+// Image files: PNG and EXR round trips through the reader, channel conversions, decoding from
+// memory, and failures that must leave no file behind.
+#include "engine/image_io.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "engine/texture.h"
+
+namespace penumbra::engine {
+namespace {
+
+namespace fs = std::filesystem;
+using raster::Rgba8;
+
+class ImageIo : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("penumbra-image-io-" + std::to_string(::getpid()) + "-" +
+            testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string file(const std::string& name) const { return (dir_ / name).string(); }
+  std::vector<std::string> listing() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+  fs::path dir_;
+};
+
+raster::ImageRgba8 pattern(int w, int h) {
+  raster::ImageRgba8 img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      img.at(x, y) = {static_cast<uint8_t>(x * 40), static_cast<uint8_t>(y * 60), static_cast<uint8_t>(x * y * 7 + 3),
+                      static_cast<uint8_t>(255 - x * 10)};
+  return img;
+}
+
+void expectSame(const raster::ImageRgba8& a, const raster::ImageRgba8& b) {
+  ASSERT_EQ(a.width(), b.width());
+  ASSERT_EQ(a.height(), b.height());
+  for (int y = 0; y < a.height(); ++y)
+    for (int x = 0; x < a.width(); ++x) ASSERT_EQ(a.at(x, y), b.at(x, y)) << "pixel " << x << ", " << y;
+}
+
+std::vector<unsigned char> bytesOf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST_F(ImageIo, PngRoundTripIsExact) {
+  const raster::ImageRgba8 img = pattern(5, 3);  // width 5: rows are padded in memory, not in the file
+  ASSERT_TRUE(writeImage(file("a.png"), img).ok());
+  Result<raster::ImageRgba8> back = readImageRgba8(file("a.png"));
+  ASSERT_TRUE(back.ok()) << back.error().line();
+  expectSame(*back, img);
+  EXPECT_EQ(listing(), std::vector<std::string>{"a.png"});  // no temporary left
+}
+
+TEST_F(ImageIo, OverwritesAnExistingFile) {
+  ASSERT_TRUE(writeImage(file("a.png"), pattern(2, 2)).ok());
+  ASSERT_TRUE(writeImage(file("a.png"), pattern(9, 4)).ok());
+  Result<raster::ImageRgba8> back = readImageRgba8(file("a.png"));
+  ASSERT_TRUE(back.ok());
+  expectSame(*back, pattern(9, 4));
+  EXPECT_EQ(listing(), std::vector<std::string>{"a.png"});
+}
+
+TEST_F(ImageIo, ExrStoresLinearFloats) {
+  // k / 255 read back through the 8-bit reader gives k: the file holds the floats as given.
+  raster::ImageFloat4 img(3, 2);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 3; ++x)
+      img.at(x, y) = {static_cast<float>(x * 50 + 5) / 255.0f, static_cast<float>(y * 100 + 20) / 255.0f, 128 / 255.0f,
+                      static_cast<float>((x + y * 3) * 40) / 255.0f};
+  ASSERT_TRUE(writeImage(file("f.exr"), img).ok());
+  Result<raster::ImageRgba8> back = readImageRgba8(file("f.exr"));
+  ASSERT_TRUE(back.ok()) << back.error().line();
+  ASSERT_EQ(back->width(), 3);
+  ASSERT_EQ(back->height(), 2);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 3; ++x)
+      EXPECT_EQ(back->at(x, y), (Rgba8{static_cast<uint8_t>(x * 50 + 5), static_cast<uint8_t>(y * 100 + 20), 128,
+                                       static_cast<uint8_t>((x + y * 3) * 40)}));
+}
+
+TEST_F(ImageIo, SingleChannelExrAndPngReadBackAsGray) {
+  raster::ImageFloat img(4, 1);
+  for (int x = 0; x < 4; ++x) img.at(x, 0) = static_cast<float>(x * 60) / 255.0f;
+  img.at(3, 0) = 7.0f;  // data above 1: kept in EXR, clamped in PNG
+  ASSERT_TRUE(writeImage(file("d.exr"), img).ok());
+  ASSERT_TRUE(writeImage(file("d.png"), img).ok());
+  Result<raster::ImageRgba8> png = readImageRgba8(file("d.png"));
+  ASSERT_TRUE(png.ok()) << png.error().line();
+  for (int x = 0; x < 3; ++x) {
+    const auto v = static_cast<uint8_t>(x * 60);
+    EXPECT_EQ(png->at(x, 0), (Rgba8{v, v, v, 255}));
+  }
+  EXPECT_EQ(png->at(3, 0), (Rgba8{255, 255, 255, 255}));
+  Result<raster::ImageRgba8> exr = readImageRgba8(file("d.exr"));
+  ASSERT_TRUE(exr.ok()) << exr.error().line();
+  EXPECT_EQ(exr->at(2, 0), (Rgba8{120, 120, 120, 255}));
+}
+
+TEST_F(ImageIo, FloatToPngIsSrgbEncoded) {
+  raster::ImageFloat4 img(2, 1);
+  img.at(0, 0) = {0.5f, 0.0f, 1.0f, 0.5f};
+  img.at(1, 0) = {-1.0f, 2.0f, 0.2158605f, 1.0f};
+  ASSERT_TRUE(writeImage(file("c.png"), img).ok());
+  Result<raster::ImageRgba8> back = readImageRgba8(file("c.png"));
+  ASSERT_TRUE(back.ok());
+  EXPECT_EQ(back->at(0, 0), (Rgba8{188, 0, 255, 128}));
+  EXPECT_EQ(back->at(1, 0), (Rgba8{0, 255, 128, 255}));
+}
+
+TEST_F(ImageIo, DecodesFromMemory) {
+  const raster::ImageRgba8 img = pattern(6, 4);
+  ASSERT_TRUE(writeImage(file("m.png"), img).ok());
+  const std::vector<unsigned char> png = bytesOf(file("m.png"));
+  Result<raster::ImageRgba8> back = decodeImageRgba8(png.data(), png.size(), "embedded");
+  ASSERT_TRUE(back.ok()) << back.error().line();
+  expectSame(*back, img);
+  // JPEG is lossy: only check that it decodes to the right size.
+  ASSERT_TRUE(writeImage(file("m.jpg"), img).ok());
+  const std::vector<unsigned char> jpg = bytesOf(file("m.jpg"));
+  Result<raster::ImageRgba8> j = decodeImageRgba8(jpg.data(), jpg.size(), "photo");
+  ASSERT_TRUE(j.ok()) << j.error().line();
+  EXPECT_EQ(j->width(), 6);
+  EXPECT_EQ(j->height(), 4);
+  EXPECT_EQ(j->at(0, 0).a, 255);
+}
+
+TEST_F(ImageIo, GarbageAndTruncatedDataAreErrors) {
+  const std::vector<unsigned char> garbage(100, 0x5a);
+  Result<raster::ImageRgba8> r = decodeImageRgba8(garbage.data(), garbage.size(), "textures/x.png");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().where, "textures/x.png");
+  EXPECT_FALSE(decodeImageRgba8(nullptr, 0, "empty").ok());
+  ASSERT_TRUE(writeImage(file("t.png"), pattern(16, 16)).ok());
+  const std::vector<unsigned char> png = bytesOf(file("t.png"));
+  for (size_t cut : {size_t{8}, size_t{30}, png.size() / 2, png.size() - 13}) {
+    Result<raster::ImageRgba8> t = decodeImageRgba8(png.data(), cut, "cut.png");
+    EXPECT_FALSE(t.ok()) << "cut at " << cut;
+  }
+}
+
+TEST_F(ImageIo, UnwritableDirectoryIsAnErrorAndLeavesNoFile) {
+  const std::string path = file("no/such/dir/out.png");
+  const Status s = writeImage(path, pattern(2, 2));
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().where, path);
+  EXPECT_NE(s.error().line().find(path), std::string::npos);
+  EXPECT_FALSE(fs::exists(file("no")));
+  EXPECT_TRUE(listing().empty());
+}
+
+TEST_F(ImageIo, FailedRenameRemovesTheTemporary) {
+  fs::create_directory(file("taken.png"));  // a directory where the file should go
+  const Status s = writeImage(file("taken.png"), pattern(3, 3));
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(listing(), std::vector<std::string>{"taken.png"});
+  EXPECT_TRUE(fs::is_directory(file("taken.png")));
+}
+
+TEST_F(ImageIo, UnsupportedExtensionIsAnError) {
+  for (const std::string name : {"x.foo", "noextension"}) {
+    const Status s = writeImage(file(name), pattern(2, 2));
+    ASSERT_FALSE(s.ok()) << name;
+    EXPECT_EQ(s.error().where, file(name));
+  }
+  EXPECT_NE(writeImage(file("x.foo"), pattern(1, 1)).error().what.find(".foo"), std::string::npos);
+  EXPECT_TRUE(listing().empty());
+}
+
+TEST_F(ImageIo, EmptyImageIsAnError) {
+  EXPECT_FALSE(writeImage(file("e.png"), raster::ImageRgba8()).ok());
+  EXPECT_TRUE(listing().empty());
+}
+
+TEST_F(ImageIo, MissingOrInvalidFileIsAnError) {
+  Result<raster::ImageRgba8> r = readImageRgba8(file("missing.png"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().where, file("missing.png"));
+  std::ofstream(file("bad.png")) << "not an image";
+  Result<raster::ImageRgba8> b = readImageRgba8(file("bad.png"));
+  ASSERT_FALSE(b.ok());
+  EXPECT_EQ(b.error().where, file("bad.png"));
+  EXPECT_EQ(b.error().line().find('\n'), std::string::npos);
+}
+
+}  // namespace
+}  // namespace penumbra::engine
