@@ -11,7 +11,6 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -380,8 +379,9 @@ class Loader {
   // Triangle list from the primitive's vertex order (glTF 2.0, 3.7.2.1: strips alternate winding;
   // fans pivot on the first vertex, triangle i being (i + 1, i + 2, 0)).
   static std::vector<uint32_t> triangleList(const std::vector<uint32_t>& order, int mode) {
-    if (mode == TINYGLTF_MODE_TRIANGLES || order.size() < 3) return mode == TINYGLTF_MODE_TRIANGLES ? order : std::vector<uint32_t>{};
+    if (mode == TINYGLTF_MODE_TRIANGLES) return order;
     std::vector<uint32_t> tris;
+    if (order.size() < 3) return tris;
     tris.reserve((order.size() - 2) * 3);
     for (size_t i = 0; i + 2 < order.size(); ++i) {
       if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {

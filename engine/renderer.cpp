@@ -144,7 +144,11 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
     if (outsideFrustum(viewProj, lo, hi)) {
       ++st.instancesCulled;
       st.trianglesSkippedByCulling += tris;
-      if (st.culledNames.size() < 8) st.culledNames.push_back(inst.name.empty() ? "#" + std::to_string(i) : inst.name);
+      if (st.culledNames.size() < 8) {
+        std::string name = inst.name;
+        if (name.empty()) name.append("#").append(std::to_string(i));
+        st.culledNames.push_back(std::move(name));
+      }
       continue;
     }
     visible.push_back(i);

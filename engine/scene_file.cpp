@@ -9,7 +9,6 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <sstream>
 #include <string_view>
 #include <utility>
@@ -353,9 +352,8 @@ class SceneParser {
 std::string describeParseError(const json::parse_error& e) {
   std::string what = e.what();
   std::replace_if(what.begin(), what.end(), [](char c) { return c == '\n' || c == '\r' || c == '\t'; }, ' ');
-  static const std::regex located(R"(at (line \d+, column \d+): (.*)$)");
-  std::smatch m;
-  if (std::regex_search(what, m, located)) return "invalid JSON at " + m[1].str() + ": " + m[2].str();
+  const size_t at = what.find(" at line ");
+  if (at != std::string::npos) return "invalid JSON" + what.substr(at);
   return "invalid JSON at byte " + std::to_string(e.byte) + ": " + what;
 }
 

@@ -18,6 +18,7 @@ if [ "${PENUMBRA_SKIP_SANITIZE:-0}" != 1 ]; then
   cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPENUMBRA_SANITIZE=ON \
     -DPENUMBRA_BUILD_APPS=OFF >/dev/null
   cmake --build build/sanitize -j"$jobs"
-  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS=suppressions="$PWD/tests/lsan.supp" \
+    UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build/sanitize -j"$jobs" -L unit --output-on-failure --timeout 1800
 fi
