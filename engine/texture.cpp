@@ -114,11 +114,24 @@ glm::vec4 bilinear(const ImageRgba8& img, glm::vec2 uv) {
 float srgbToLinear(uint8_t v) { return srgbTable()[v]; }
 
 uint8_t linearToSrgb(float linear) {
+  // Code k is chosen when the encoded value c satisfies c * 255 >= k - 0.5, i.e. when linear is at
+  // least the decoded value of (k - 0.5) / 255: a table of those 255 thresholds and a binary search
+  // replace a pow() per channel (the shading pass encodes every pixel).
+  static const std::array<float, 256> threshold = [] {
+    std::array<float, 256> t{};
+    t[0] = -1.0f;
+    for (int k = 1; k < 256; ++k) {
+      const double c = (k - 0.5) / 255.0;
+      t[static_cast<size_t>(k)] = static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+    }
+    return t;
+  }();
   if (!(linear > 0.0f)) return 0;  // also NaN
   if (linear >= 1.0f) return 255;
-  const double x = static_cast<double>(linear);
-  const double c = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
-  return static_cast<uint8_t>(std::lround(c * 255.0));
+  size_t k = 0;
+  for (size_t step = 128; step > 0; step >>= 1)
+    if (linear >= threshold[k + step]) k += step;
+  return static_cast<uint8_t>(k);
 }
 
 void buildMips(Texture& texture) {

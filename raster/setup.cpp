@@ -41,70 +41,66 @@ ScreenVert projectVertex(float x, float y, float z, float w, const Viewport& vp)
 namespace {
 
 // ceil(a / 256) and floor(a / 256) for signed a.
-inline int32_t floorDiv(int64_t a) { return static_cast<int32_t>(a >> kSubpixelBits); }
-inline int32_t ceilDiv(int64_t a) { return static_cast<int32_t>(-((-a) >> kSubpixelBits)); }
+inline int32_t floorDiv(int32_t a) { return a >> kSubpixelBits; }
+inline int32_t ceilDiv(int32_t a) { return -((-a) >> kSubpixelBits); }
 
 }  // namespace
 
 SetupResult setupTriangle(const ScreenVert& v0, const ScreenVert& v1, const ScreenVert& v2, CullMode cull,
                           const Viewport& vp, SetupTri& t, SetupAttr* attr, int order[3]) {
-  const ScreenVert* v[3] = {&v0, &v1, &v2};
-  // Doubled signed area in y-down fixed point: (v1 - v0) x (v2 - v0).
-  const int64_t area = (int64_t{v1.x} - v0.x) * (int64_t{v2.y} - v0.y) - (int64_t{v1.y} - v0.y) * (int64_t{v2.x} - v0.x);
-  if (area == 0) return SetupResult::Degenerate;
-  // Counter-clockwise in NDC (y up) is clockwise with y down: negative area here.
-  const bool front = area < 0;
-  if ((cull == CullMode::Back && !front) || (cull == CullMode::Front && front)) return SetupResult::CulledFacing;
-  int o[3] = {0, 1, 2};
-  if (area < 0) std::swap(o[1], o[2]);
-  const ScreenVert* p[3] = {v[o[0]], v[o[1]], v[o[2]]};
-
-  int64_t minx = std::min({p[0]->x, p[1]->x, p[2]->x}), maxx = std::max({p[0]->x, p[1]->x, p[2]->x});
-  int64_t miny = std::min({p[0]->y, p[1]->y, p[2]->y}), maxy = std::max({p[0]->y, p[1]->y, p[2]->y});
+  // Bounding box first: most small triangles that are rejected hold no pixel centre.
   // Pixel i is sampled at 256 i: candidates are ceil(min/256) .. floor(max/256), clamped.
+  const int32_t minx = std::min({v0.x, v1.x, v2.x}), maxx = std::max({v0.x, v1.x, v2.x});
+  const int32_t miny = std::min({v0.y, v1.y, v2.y}), maxy = std::max({v0.y, v1.y, v2.y});
   t.minX = std::max(ceilDiv(minx), 0);
   t.maxX = std::min(floorDiv(maxx), vp.width - 1);
   t.minY = std::max(ceilDiv(miny), 0);
   t.maxY = std::min(floorDiv(maxy), vp.height - 1);
   if (t.minX > t.maxX || t.minY > t.maxY) return SetupResult::NoSample;
 
-  for (int k = 0; k < 3; ++k) {
-    t.vx[k] = p[k]->x;
-    t.vy[k] = p[k]->y;
-  }
+  // Doubled signed area in y-down fixed point: (v1 - v0) x (v2 - v0).
+  const int64_t area = (int64_t{v1.x} - v0.x) * (int64_t{v2.y} - v0.y) - (int64_t{v1.y} - v0.y) * (int64_t{v2.x} - v0.x);
+  if (area == 0) return SetupResult::Degenerate;
+  // Counter-clockwise in NDC (y up) is clockwise with y down: negative area here.
+  const bool front = area < 0;
+  if ((cull == CullMode::Back && !front) || (cull == CullMode::Front && front)) return SetupResult::CulledFacing;
+  const ScreenVert& p0 = v0;
+  const ScreenVert& p1 = front ? v2 : v1;
+  const ScreenVert& p2 = front ? v1 : v2;
+  t.vx[0] = p0.x, t.vx[1] = p1.x, t.vx[2] = p2.x;
+  t.vy[0] = p0.y, t.vy[1] = p1.y, t.vy[2] = p2.y;
 
-  // Planes. Barycentric l_k (of ordered vertex k) is E_{k+1}(p) / area, the edge opposite to k,
-  // without bias. Per pixel step of E in x is 256 A, in y 256 B (E in fixed^2 units).
-  const double inv = 1.0 / static_cast<double>(area < 0 ? -area : area);
-  double l0[3], lx[3], ly[3];  // l_k at (minX, minY) and its steps
-  for (int k = 0; k < 3; ++k) {
-    const int e = (k + 1) % 3, n = (e + 1) % 3;
-    const int64_t ea = -(int64_t{t.vy[n]} - t.vy[e]), eb = int64_t{t.vx[n]} - t.vx[e];
-    const int64_t eo = ea * (int64_t{t.minX} * kSubpixelOne - t.vx[e]) + eb * (int64_t{t.minY} * kSubpixelOne - t.vy[e]);
-    l0[k] = static_cast<double>(eo) * inv;
-    lx[k] = static_cast<double>(ea * kSubpixelOne) * inv;
-    ly[k] = static_cast<double>(eb * kSubpixelOne) * inv;
-  }
-  auto plane = [&](const double s[3], float& c, float& cx, float& cy) {
-    c = static_cast<float>(s[0] * l0[0] + s[1] * l0[1] + s[2] * l0[2]);
-    cx = static_cast<float>(s[0] * lx[0] + s[1] * lx[1] + s[2] * lx[2]);
-    cy = static_cast<float>(s[0] * ly[0] + s[1] * ly[1] + s[2] * ly[2]);
+  // Planes from the barycentrics of ordered vertices 1 and 2: l1 = E_20(p) / area,
+  // l2 = E_01(p) / area (edge functions without bias), so that s = s0 + (s1 - s0) l1 + (s2 - s0) l2
+  // for any quantity s linear in screen space. E steps by 256 A per pixel in x, 256 B in y.
+  const double inv = 1.0 / static_cast<double>(front ? -area : area);
+  const int64_t ox = int64_t{t.minX} * kSubpixelOne, oy = int64_t{t.minY} * kSubpixelOne;
+  const int64_t a1 = -(int64_t{p0.y} - p2.y), b1 = int64_t{p0.x} - p2.x;  // edge 2 -> 0
+  const int64_t a2 = -(int64_t{p1.y} - p0.y), b2 = int64_t{p1.x} - p0.x;  // edge 0 -> 1
+  const double l1 = static_cast<double>(a1 * (ox - p2.x) + b1 * (oy - p2.y)) * inv;
+  const double l2 = static_cast<double>(a2 * (ox - p0.x) + b2 * (oy - p0.y)) * inv;
+  const double l1x = static_cast<double>(a1 * kSubpixelOne) * inv, l1y = static_cast<double>(b1 * kSubpixelOne) * inv;
+  const double l2x = static_cast<double>(a2 * kSubpixelOne) * inv, l2y = static_cast<double>(b2 * kSubpixelOne) * inv;
+  auto plane = [&](double s0, double d1, double d2, float& c, float& cx, float& cy) {
+    c = static_cast<float>(s0 + d1 * l1 + d2 * l2);
+    cx = static_cast<float>(d1 * l1x + d2 * l2x);
+    cy = static_cast<float>(d1 * l1y + d2 * l2y);
   };
-  const double z[3] = {p[0]->z, p[1]->z, p[2]->z};
-  plane(z, t.z0, t.zx, t.zy);
-  t.zmin = std::min({p[0]->z, p[1]->z, p[2]->z});
-  t.zmax = std::max({p[0]->z, p[1]->z, p[2]->z});
+  const double z0 = p0.z;
+  plane(z0, double{p1.z} - z0, double{p2.z} - z0, t.z0, t.zx, t.zy);
+  t.zmin = std::min({p0.z, p1.z, p2.z});
+  t.zmax = std::max({p0.z, p1.z, p2.z});
   if (attr) {
-    const double sw[3] = {p[0]->iw, p[1]->iw, p[2]->iw};
-    const double s1[3] = {0.0, p[1]->iw, 0.0};
-    const double s2[3] = {0.0, 0.0, p[2]->iw};
-    plane(sw, attr->sw0, attr->swx, attr->swy);
-    plane(s1, attr->s10, attr->s1x, attr->s1y);
-    plane(s2, attr->s20, attr->s2x, attr->s2y);
+    const double w0 = p0.iw, w1 = p1.iw, w2 = p2.iw;
+    plane(w0, w1 - w0, w2 - w0, attr->sw0, attr->swx, attr->swy);
+    plane(0.0, w1, 0.0, attr->s10, attr->s1x, attr->s1y);
+    plane(0.0, 0.0, w2, attr->s20, attr->s2x, attr->s2y);
     attr->frontFacing = front;
   }
   if (order) {
-    for (int k = 0; k < 3; ++k) order[k] = o[k];
+    order[0] = 0;
+    order[1] = front ? 2 : 1;
+    order[2] = front ? 1 : 2;
   }
   return SetupResult::Ok;
 }
