@@ -72,7 +72,7 @@ std::string WorkloadResult::line() const {
 
 WorkloadResult runWorkload(const std::string& workload, const std::string& meshName, const engine::Mesh& mesh,
                            int threads, int minFrames, double minSeconds, raster::ImageRgba8* colorOut,
-                           raster::DepthTarget* depthOut) {
+                           raster::DepthTarget* depthOut, raster::RasterConfig config) {
   using Clock = std::chrono::steady_clock;
   const ViewFit fit = fitView(mesh);
   const bool w1 = workload == "W1";
@@ -80,7 +80,8 @@ WorkloadResult runWorkload(const std::string& workload, const std::string& meshN
   glm::vec3 light(0.0f);
   const glm::mat4 mvp = w1 ? w1LightMatrix(fit) : w2CameraMatrix(fit, &light);
 
-  raster::Rasterizer rast({.threads = threads});
+  config.threads = threads;
+  raster::Rasterizer rast(config);
   raster::DepthTarget depth(width, height, 1.0f);
   raster::ImageRgba8 color;
   if (!w1) color.resize(width, height);

@@ -34,8 +34,10 @@ glm::mat4 w2CameraMatrix(const ViewFit& fit, glm::vec3* lightDir);
 
 // Runs W1 or W2 ("W1", "W2") on `mesh` with `threads` threads: 3 warm-up frames, then at least
 // `minFrames` frames and `minSeconds`. Each frame clears and draws everything.
+// `config.threads` is replaced by `threads`; the other fields (tile size, chunk and batch sizes)
+// are used as given.
 WorkloadResult runWorkload(const std::string& workload, const std::string& meshName, const engine::Mesh& mesh,
                            int threads, int minFrames, double minSeconds, raster::ImageRgba8* colorOut = nullptr,
-                           raster::DepthTarget* depthOut = nullptr);
+                           raster::DepthTarget* depthOut = nullptr, raster::RasterConfig config = {});
 
 }  // namespace penumbra::apps

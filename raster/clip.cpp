@@ -7,30 +7,37 @@ namespace penumbra::raster {
 
 namespace {
 
-// Signed distance of a clip-space vertex to one plane, >= 0 inside.
-struct Plane {
-  float cx, cy, cz, cw;
-  float dist(const float* v) const { return cx * v[0] + cy * v[1] + cz * v[2] + cw * v[3]; }
-};
+// Signed distance of vertex v to plane k, >= 0 inside: 0 near, 1 far, 2..5 the guard band.
+double distance(int k, const double* v, const GuardPlanes& g) {
+  switch (k) {
+    case 0: return v[2];         // z >= 0
+    case 1: return v[3] - v[2];  // z <= w
+    default: {
+      double d[4];
+      guardDistances(g, v[0], v[1], v[3], d);
+      return d[k - 2];
+    }
+  }
+}
 
-int clipPolygon(const Plane& pl, const float* in, int n, int stride, float* out) {
+int clipPolygon(int plane, const GuardPlanes& g, const double* in, int n, int stride, double* out) {
   int m = 0;
-  for (int i = 0; i < n; ++i) {
-    const float* a = in + i * stride;
-    const float* b = in + ((i + 1) % n) * stride;
-    const float da = pl.dist(a), db = pl.dist(b);
-    const bool ina = da >= 0.0f, inb = db >= 0.0f;
+  for (int i = 0; i < n && m + 2 <= kMaxClipVerts; ++i) {
+    const double* a = in + i * stride;
+    const double* b = in + ((i + 1) % n) * stride;
+    const double da = distance(plane, a, g), db = distance(plane, b, g);
+    const bool ina = da >= 0.0, inb = db >= 0.0;
     if (ina) {
-      std::memcpy(out + m * stride, a, sizeof(float) * static_cast<size_t>(stride));
+      std::memcpy(out + m * stride, a, sizeof(double) * static_cast<size_t>(stride));
       ++m;
     }
     if (ina != inb) {
       // Interpolate from the inside endpoint P towards the outside one Q (canonical direction).
-      const float* p = ina ? a : b;
-      const float* q = ina ? b : a;
-      const float dp = ina ? da : db, dq = ina ? db : da;
-      const float t = dp / (dp - dq);
-      float* r = out + m * stride;
+      const double* p = ina ? a : b;
+      const double* q = ina ? b : a;
+      const double dp = ina ? da : db, dq = ina ? db : da;
+      const double t = dp / (dp - dq);
+      double* r = out + m * stride;
       for (int c = 0; c < stride; ++c) r[c] = p[c] + t * (q[c] - p[c]);
       ++m;
     }
@@ -40,36 +47,21 @@ int clipPolygon(const Plane& pl, const float* in, int n, int stride, float* out)
 
 }  // namespace
 
-int clipTriangle(const float* const in[3], int nv, uint32_t planes, const Viewport& vp, float* out) {
+int clipTriangle(const double* const in[3], int nv, const GuardPlanes& guard, double* out) {
   const int stride = 4 + nv;
-  float bufA[kMaxClipVerts * kClipStride], bufB[kMaxClipVerts * kClipStride];
-  for (int i = 0; i < 3; ++i) std::memcpy(bufA + i * stride, in[i], sizeof(float) * static_cast<size_t>(stride));
+  double bufA[kMaxClipVerts * kClipStride], bufB[kMaxClipVerts * kClipStride];
+  for (int i = 0; i < 3; ++i) std::memcpy(bufA + i * stride, in[i], sizeof(double) * static_cast<size_t>(stride));
   int n = 3;
-  float* cur = bufA;
-  float* nxt = bufB;
-  Plane list[7];
-  int np = 0;
-  if (planes & kOutNear) list[np++] = {0, 0, 1, 0};   // z >= 0
-  if (planes & kOutFar) list[np++] = {0, 0, -1, 1};   // z <= w
-  if (planes & kOutGuard) {
-    // Screen x in [-G, G] <=> ndc.x in [-(2G/W + 1), 2G/W - 1]; y is flipped. G sits 16 pixels
-    // inside the projection's limit so that rounding here never lands a vertex outside it.
-    const double g = kGuardBandPixels - 16.0;
-    const auto xhi = static_cast<float>(2.0 * g / vp.width - 1.0), xlo = static_cast<float>(-(2.0 * g / vp.width + 1.0));
-    const auto yhi = static_cast<float>(2.0 * g / vp.height + 1.0), ylo = static_cast<float>(1.0 - 2.0 * g / vp.height);
-    list[np++] = {-1, 0, 0, xhi};  // x <= xhi w
-    list[np++] = {1, 0, 0, -xlo};  // x >= xlo w
-    list[np++] = {0, -1, 0, yhi};  // y <= yhi w
-    list[np++] = {0, 1, 0, -ylo};  // y >= ylo w
-    // w > 0 is implied by near (z >= 0) and far (z <= w) together; without them keep w positive.
-    if (!(planes & kOutNear) || !(planes & kOutFar)) list[np++] = {0, 0, 0, 1};
-  }
-  for (int i = 0; i < np && n >= 3; ++i) {
-    n = clipPolygon(list[i], cur, n, stride, nxt);
+  double* cur = bufA;
+  double* nxt = bufB;
+  // Every clipped triangle meets the same planes in the same order, so that two triangles sharing
+  // an edge cut it identically (a plane a polygon lies inside changes nothing).
+  for (int plane = 0; plane < 6 && n >= 3; ++plane) {
+    n = clipPolygon(plane, guard, cur, n, stride, nxt);
     std::swap(cur, nxt);
   }
   if (n < 3) return 0;
-  for (int i = 0; i < n; ++i) std::memcpy(out + i * kClipStride, cur + i * stride, sizeof(float) * static_cast<size_t>(stride));
+  for (int i = 0; i < n; ++i) std::memcpy(out + i * kClipStride, cur + i * stride, sizeof(double) * static_cast<size_t>(stride));
   return n;
 }
 

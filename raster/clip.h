@@ -12,16 +12,18 @@
 namespace penumbra::raster {
 
 inline constexpr int kMaxVaryings = 16;
-// A triangle clipped by at most 7 planes (near, far, 4 guard band, w >= 0) gains at most one vertex
-// per plane: 3 + 7 = 10.
-inline constexpr int kMaxClipVerts = 10;
+// A triangle clipped by 6 planes (near, far, 4 guard band) gains at most one vertex per plane:
+// 3 + 6 = 9; the buffers hold twice that, and the clipper never writes past them even when
+// rounding makes a polygon slightly non-convex.
+inline constexpr int kMaxClipVerts = 18;
 // Clip-space position, up to kMaxVaryings varyings and the 3 barycentrics of the submitted triangle.
 inline constexpr int kClipStride = 4 + kMaxVaryings + 3;
 
-// Planes to clip against (bit set of VertexFlags: kOutNear, kOutFar, kOutGuard).
-// `in` holds the triangle's three vertices, each `4 + nv` floats. Writes the clipped convex polygon
-// to `out` (kMaxClipVerts vertices of kClipStride floats) and returns its vertex count (0 when the
-// triangle is entirely outside, else >= 3).
-int clipTriangle(const float* const in[3], int nv, uint32_t planes, const Viewport& vp, float* out);
+// Clips against near (z >= 0), far (z <= w) and the guard band (guardDistances), in double
+// precision: an intersection far from a vertex with large w keeps its accuracy.
+// `in` holds the triangle's three vertices, each `4 + nv` doubles. Writes the clipped convex
+// polygon to `out` (kMaxClipVerts vertices of kClipStride doubles) and returns its vertex count
+// (0 when the triangle is entirely outside, else >= 3).
+int clipTriangle(const double* const in[3], int nv, const GuardPlanes& guard, double* out);
 
 }  // namespace penumbra::raster

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
 namespace penumbra::raster {
 
@@ -11,7 +13,22 @@ int arenaThreads(int requested) {
 }
 }  // namespace
 
-Rasterizer::Rasterizer(const RasterConfig& config) : config_(config), arena_(arenaThreads(config.threads)) {}
+Rasterizer::Rasterizer(const RasterConfig& config) : config_(config), arena_(arenaThreads(config.threads)) {
+  auto check = [](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(std::string("RasterConfig: ") + what);
+  };
+  check(config.threads >= 0 && config.threads <= 1024, "threads must be in [0, 1024]");
+  check(config.tileLog2 >= kBlockLog2 && config.tileLog2 <= 10, "tileLog2 must be in [3, 10]");
+  check(config.chunkTriangles >= 64 && config.chunkTriangles <= (1 << 20), "chunkTriangles must be in [64, 2^20]");
+  check(config.batchChunks >= 0 && config.batchChunks <= (1 << 20), "batchChunks must be in [0, 2^20]");
+}
+
+void Rasterizer::checkDraw(const DrawDesc& desc, const DepthTarget& depth) const {
+  if (desc.varyings < 0 || desc.varyings > kMaxVaryings)
+    throw std::invalid_argument("DrawDesc: varyings must be in [0, " + std::to_string(kMaxVaryings) + "]");
+  if (depth.width() < 1 || depth.height() < 1 || depth.width() > kMaxTargetSize || depth.height() > kMaxTargetSize)
+    throw std::invalid_argument("depth target must be 1 to " + std::to_string(kMaxTargetSize) + " pixels a side");
+}
 
 void Rasterizer::clear(DepthTarget& depth, float value) {
   arena_.execute([&] { depth.clear(value); });
@@ -25,7 +42,8 @@ void Rasterizer::runBatches(const DrawDesc& desc, DepthTarget& depth, bool wantA
   tilesY_ = (vp.height + (1 << tileLog2) - 1) >> tileLog2;
   tileStats_.assign(static_cast<size_t>(tilesX_ * tilesY_), PassStats{});
   const uint64_t triCount = desc.indices.empty() ? desc.vertexCount / 3 : desc.indices.size() / 3;
-  const uint64_t batch = static_cast<uint64_t>(config_.chunkTriangles) * static_cast<uint64_t>(config_.batchChunks);
+  const int batchChunks = config_.batchChunks > 0 ? config_.batchChunks : 512;
+  const uint64_t batch = static_cast<uint64_t>(config_.chunkTriangles) * static_cast<uint64_t>(batchChunks);
   for (uint64_t first = 0; first < triCount; first += batch) {
     const auto t0 = Clock::now();
     frontEnd(desc, vp, wantAttrs, first, std::min(triCount, first + batch), stats);
@@ -51,6 +69,7 @@ void Rasterizer::frontEnd(const DrawDesc& desc, const Viewport& vp, bool wantAtt
   if (chunks_.size() < chunkCount_) chunks_.resize(chunkCount_);
   const int nv = nv_;
   const uint32_t vertexCount = desc.vertexCount;
+  const GuardPlanes guard = guardPlanes(vp);
 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, chunkCount_, 1), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t ci = r.begin(); ci != r.end(); ++ci) {
@@ -87,14 +106,14 @@ void Rasterizer::frontEnd(const DrawDesc& desc, const Viewport& vp, bool wantAtt
         c.tris.push_back(t);
       };
 
-      float clipIn[3][kClipStride];
-      float poly[kMaxClipVerts * kClipStride];
+      double clipIn[3][kClipStride];
+      double poly[kMaxClipVerts * kClipStride];
       for (uint64_t tri = first; tri < last; ++tri) {
         uint32_t idx[3];
         if (indexed) {
           for (int k = 0; k < 3; ++k) idx[k] = desc.indices[tri * 3 + static_cast<uint64_t>(k)];
           if (idx[0] >= vertexCount || idx[1] >= vertexCount || idx[2] >= vertexCount) {
-            ++st.trianglesDroppedNonFinite;
+            ++st.trianglesDroppedInvalid;
             continue;
           }
         } else {
@@ -105,7 +124,7 @@ void Rasterizer::frontEnd(const DrawDesc& desc, const Viewport& vp, bool wantAtt
         const ScreenVert& d = screen_[idx[2]];
         const uint32_t orFlags = a.flags | b.flags | d.flags;
         if (orFlags & kNonFinite) {
-          ++st.trianglesDroppedNonFinite;
+          ++st.trianglesDroppedInvalid;
           continue;
         }
         if (a.flags & b.flags & d.flags & kFrustumMask) {
@@ -117,35 +136,33 @@ void Rasterizer::frontEnd(const DrawDesc& desc, const Viewport& vp, bool wantAtt
           emit(a, b, d, prim, idx, false);
           continue;
         }
-        // Homogeneous clipping. Vertex layout: position, varyings, submitted barycentrics.
+        // Homogeneous clipping, in double. Vertex layout: position, varyings, submitted barycentrics.
         ++st.trianglesClipped;
         const int stride = 4 + nv + 3;
-        const float* in[3];
+        const double* in[3];
         for (int k = 0; k < 3; ++k) {
           const glm::vec4& p = clip_[idx[k]];
           clipIn[k][0] = p.x;
           clipIn[k][1] = p.y;
           clipIn[k][2] = p.z;
           clipIn[k][3] = p.w;
-          if (nv > 0)
-            std::memcpy(&clipIn[k][4], vary_.data() + static_cast<size_t>(idx[k]) * static_cast<size_t>(nv),
-                        sizeof(float) * static_cast<size_t>(nv));
-          for (int e = 0; e < 3; ++e) clipIn[k][4 + nv + e] = (e == k) ? 1.0f : 0.0f;
+          const float* v = vary_.data() + static_cast<size_t>(idx[k]) * static_cast<size_t>(nv);
+          for (int c2 = 0; c2 < nv; ++c2) clipIn[k][4 + c2] = v[c2];
+          for (int e = 0; e < 3; ++e) clipIn[k][4 + nv + e] = (e == k) ? 1.0 : 0.0;
           in[k] = clipIn[k];
         }
-        // Every clipped triangle meets the same planes in the same order, so that two triangles
-        // sharing an edge cut it identically (planes a polygon lies inside change nothing).
-        const int n = clipTriangle(in, nv + 3, kNeedsClip, vp, poly);
-        if (n < 3) continue;
+        const int n = clipTriangle(in, nv + 3, guard, poly);
+        if (n < 3) {
+          ++st.trianglesCulledFrustum;  // entirely outside the clip volume
+          continue;
+        }
         ScreenVert sv[kMaxClipVerts];
         bool ok = true;
         for (int i = 0; i < n; ++i) {
-          const float* p = poly + i * kClipStride;
-          sv[i] = projectVertex(p[0], p[1], p[2], p[3], vp);
-          // Near/far flags may come back from rounding on the plane; the guard band has a margin.
-          ok &= (sv[i].flags & (kOutGuard | kNonFinite)) == 0;
+          sv[i] = projectClipped(poly + i * kClipStride, vp);
+          ok &= (sv[i].flags & kOutGuard) == 0;
         }
-        if (!ok) {
+        if (!ok) {  // w reached 0: the polygon degenerates to the eye point
           ++st.trianglesCulledDegenerate;
           continue;
         }
@@ -153,8 +170,8 @@ void Rasterizer::frontEnd(const DrawDesc& desc, const Viewport& vp, bool wantAtt
         const uint32_t base = static_cast<uint32_t>(c.clipVary.size() / static_cast<size_t>(stride - 4));
         if (wantAttrs) {
           for (int i = 0; i < n; ++i) {
-            const float* p = poly + i * kClipStride;
-            c.clipVary.insert(c.clipVary.end(), p + 4, p + stride);
+            const double* p = poly + i * kClipStride;
+            for (int c2 = 4; c2 < stride; ++c2) c.clipVary.push_back(static_cast<float>(p[c2]));
           }
         }
         for (int i = 1; i + 1 < n; ++i) {

@@ -14,7 +14,11 @@
 //
 // Thread-safety: a Rasterizer is not thread-safe (one draw at a time); it owns the TBB arena its
 // passes run in and the scratch buffers they reuse. Functors are called concurrently from several
-// threads: the vertex functor for distinct vertices, the fragment functor for distinct tiles.
+// threads: the vertex functor for distinct vertices, the fragment functor for distinct tiles. The
+// fragment functor must not itself run TBB algorithms (the waiting thread could pick up another
+// tile's task and reuse this thread's scratch).
+// Invalid arguments (a configuration out of range, more than kMaxVaryings varyings, a target
+// larger than kMaxTargetSize) throw std::invalid_argument: they are programming errors.
 #pragma once
 
 #include <tbb/enumerable_thread_specific.h>
@@ -41,9 +45,12 @@ struct RasterConfig {
   int threads = 0;             // worker threads, 0 = all hardware threads; [0, 1024]
   int tileLog2 = 6;            // tile side 2^tileLog2 pixels (default 64); [3, 10]
   int chunkTriangles = 2048;   // triangles per binning chunk (fixed: not derived from threads); [64, 2^20]
-  // Triangles set up, binned and rasterized together. Bounding a batch keeps the set-up triangles
-  // (64 bytes each) in cache between the setup and tile stages; default 64K triangles = 4 MiB.
-  int batchChunks = 32;        // chunks per batch; [1, 2^20]
+  // Triangles set up, binned and rasterized together, batch after batch: bounds the memory a draw
+  // holds (64 bytes per set-up triangle). Small batches keep that data in cache but concentrate
+  // a batch's work in few tiles (a batch of a spatially coherent mesh covers a small part of the
+  // screen), which starves threads; measured, 1M triangles per batch is the better trade-off
+  // (docs/performance.md). 0 = 512 chunks (1M triangles, 64 MiB). The image never depends on it.
+  int batchChunks = 0;         // chunks per batch; 0 or [1, 2^20]
 };
 
 struct DrawDesc {
@@ -114,6 +121,7 @@ class Rasterizer {
 
   template <class VS, bool kVary>
   void vertexStage(uint32_t count, int nv, VS& vs, const Viewport& vp, PassStats& stats);
+  void checkDraw(const DrawDesc& desc, const DepthTarget& depth) const;
   // Setup and binning of triangles [first, last) of the draw into chunks_.
   void frontEnd(const DrawDesc& desc, const Viewport& vp, bool wantAttrs, uint64_t first, uint64_t last,
                 PassStats& stats);
@@ -150,6 +158,7 @@ void Rasterizer::vertexStage(uint32_t count, int nv, VS& vs, const Viewport& vp,
   screen_.resize(count);
   vary_.resize(static_cast<size_t>(count) * static_cast<size_t>(nv));
   stats.verticesIn = count;
+  const GuardPlanes guard = guardPlanes(vp);
   stats.verticesNonFinite = tbb::parallel_reduce(
       tbb::blocked_range<uint32_t>(0, count, 4096), uint64_t{0},
       [&](const tbb::blocked_range<uint32_t>& r, uint64_t bad) {
@@ -161,7 +170,7 @@ void Rasterizer::vertexStage(uint32_t count, int nv, VS& vs, const Viewport& vp,
             c = vs(i);
           }
           clip_[i] = c;
-          screen_[i] = projectVertex(c.x, c.y, c.z, c.w, vp);
+          screen_[i] = projectVertex(c.x, c.y, c.z, c.w, vp, guard);
           bad += (screen_[i].flags & kNonFinite) ? 1 : 0;
         }
         return bad;
@@ -171,6 +180,7 @@ void Rasterizer::vertexStage(uint32_t count, int nv, VS& vs, const Viewport& vp,
 
 template <class VS>
 PassStats Rasterizer::drawDepth(const DrawDesc& desc, DepthTarget& depth, VS&& vs) {
+  checkDraw(desc, depth);
   PassStats stats;
   arena_.execute([&] {
     const auto t0 = Clock::now();
@@ -187,6 +197,7 @@ PassStats Rasterizer::drawDepth(const DrawDesc& desc, DepthTarget& depth, VS&& v
 
 template <class VS, class FS>
 PassStats Rasterizer::draw(const DrawDesc& desc, DepthTarget& depth, VS&& vs, FS&& fs) {
+  checkDraw(desc, depth);
   PassStats stats;
   arena_.execute([&] {
     const auto t0 = Clock::now();

@@ -5,9 +5,34 @@
 
 namespace penumbra::raster {
 
-ScreenVert projectVertex(float x, float y, float z, float w, const Viewport& vp) {
+GuardPlanes guardPlanes(const Viewport& vp) {
+  // Screen x = (ndc.x * 0.5 + 0.5) W in [-G, G]  <=>  ndc.x in [-(2G/W + 1), 2G/W - 1]; y is flipped.
+  const double g = kGuardBandPixels;
+  return {-(2.0 * g / vp.width + 1.0), 2.0 * g / vp.width - 1.0, 1.0 - 2.0 * g / vp.height, 2.0 * g / vp.height + 1.0};
+}
+
+namespace {
+
+ScreenVert snapScreen(double wd, double x, double y, double z, const Viewport& vp, bool clamp) {
   ScreenVert s;
+  double sx = (x / wd * 0.5 + 0.5) * vp.width;
+  double sy = (0.5 - y / wd * 0.5) * vp.height;
+  if (clamp) {
+    sx = std::clamp(sx, -kGuardBandPixels, kGuardBandPixels);
+    sy = std::clamp(sy, -kGuardBandPixels, kGuardBandPixels);
+  }
+  s.x = static_cast<int32_t>(std::nearbyint(sx * kSubpixelOne - kSubpixelOne / 2));
+  s.y = static_cast<int32_t>(std::nearbyint(sy * kSubpixelOne - kSubpixelOne / 2));
+  s.z = static_cast<float>(z / wd);
+  s.iw = static_cast<float>(1.0 / wd);
+  return s;
+}
+
+}  // namespace
+
+ScreenVert projectVertex(float x, float y, float z, float w, const Viewport& vp, const GuardPlanes& guard) {
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(w)) {
+    ScreenVert s;
     s.flags = kNonFinite;
     return s;
   }
@@ -18,24 +43,27 @@ ScreenVert projectVertex(float x, float y, float z, float w, const Viewport& vp)
   if (y > w) f |= kOutTop;
   if (z < 0.0f) f |= kOutNear;
   if (z > w) f |= kOutFar;
-  if (!(w > 0.0f)) {
-    s.flags = f | kOutGuard;
-    return s;
-  }
   // Screen position in double: 8 fractional bits of a 2^15 range need more than float's 24 bits.
-  const double wd = static_cast<double>(w);
-  const double sx = (static_cast<double>(x) / wd * 0.5 + 0.5) * vp.width;
-  const double sy = (0.5 - static_cast<double>(y) / wd * 0.5) * vp.height;
-  if (!(std::abs(sx) <= kGuardBandPixels && std::abs(sy) <= kGuardBandPixels)) {
+  const double xd = x, yd = y, wd = w;
+  double d[4];
+  guardDistances(guard, xd, yd, wd, d);
+  if (!(w > 0.0f) || d[0] < 0.0 || d[1] < 0.0 || d[2] < 0.0 || d[3] < 0.0) {
+    ScreenVert s;
     s.flags = f | kOutGuard;
     return s;
   }
-  s.x = static_cast<int32_t>(std::nearbyint(sx * kSubpixelOne - kSubpixelOne / 2));
-  s.y = static_cast<int32_t>(std::nearbyint(sy * kSubpixelOne - kSubpixelOne / 2));
-  s.z = static_cast<float>(static_cast<double>(z) / wd);
-  s.iw = static_cast<float>(1.0 / wd);
+  ScreenVert s = snapScreen(wd, xd, yd, static_cast<double>(z), vp, false);
   s.flags = f;
   return s;
+}
+
+ScreenVert projectClipped(const double p[4], const Viewport& vp) {
+  if (!(p[3] > 0.0) || !std::isfinite(p[0]) || !std::isfinite(p[1])) {
+    ScreenVert s;
+    s.flags = kOutGuard;
+    return s;
+  }
+  return snapScreen(p[3], p[0], p[1], p[2], vp, true);
 }
 
 namespace {

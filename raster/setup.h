@@ -38,7 +38,25 @@ struct ScreenVert {
   uint32_t flags = 0;
 };
 
-ScreenVert projectVertex(float x, float y, float z, float w, const Viewport& vp);
+// The guard band as four clip-space planes: a vertex (w > 0) projects inside the band, screen x
+// and y within [-kGuardBandPixels, kGuardBandPixels], when every distance is >= 0. The vertex
+// stage's kOutGuard flag and the clipper evaluate these same expressions in double, so a vertex the
+// flag leaves alone is never moved by the clipper (edges shared with clipped triangles stay put).
+struct GuardPlanes {
+  double xlo, xhi, ylo, yhi;  // x in [xlo w, xhi w], y in [ylo w, yhi w]
+};
+GuardPlanes guardPlanes(const Viewport& vp);
+inline void guardDistances(const GuardPlanes& g, double x, double y, double w, double d[4]) {
+  d[0] = g.xhi * w - x;
+  d[1] = x - g.xlo * w;
+  d[2] = g.yhi * w - y;
+  d[3] = y - g.ylo * w;
+}
+
+ScreenVert projectVertex(float x, float y, float z, float w, const Viewport& vp, const GuardPlanes& guard);
+// A vertex made by the clipper (double precision, w > 0, on or inside every plane up to rounding):
+// its screen position is clamped into the guard band before snapping.
+ScreenVert projectClipped(const double p[4], const Viewport& vp);
 
 // A triangle ready for the tile stage: one 64-byte cache line, all the depth-only path reads.
 // Edge k runs from vertex k to vertex k+1; its coefficients and fill-rule bias are derived from the

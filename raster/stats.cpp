@@ -8,7 +8,7 @@ PassStats& PassStats::operator+=(const PassStats& o) {
   verticesIn += o.verticesIn;
   verticesNonFinite += o.verticesNonFinite;
   trianglesIn += o.trianglesIn;
-  trianglesDroppedNonFinite += o.trianglesDroppedNonFinite;
+  trianglesDroppedInvalid += o.trianglesDroppedInvalid;
   trianglesCulledFrustum += o.trianglesCulledFrustum;
   trianglesCulledFacing += o.trianglesCulledFacing;
   trianglesCulledDegenerate += o.trianglesCulledDegenerate;
@@ -42,13 +42,13 @@ std::string PassStats::report(const std::string& title) const {
       buf, sizeof buf,
       "%s: %.2f ms (vertex %.2f, setup+bin %.2f, raster %.2f)\n"
       "  vertices %llu (non-finite dropped %llu)\n"
-      "  triangles in %llu: dropped non-finite %llu, culled frustum %llu, facing %llu, degenerate %llu, "
+      "  triangles in %llu: dropped invalid %llu, culled frustum %llu, facing %llu, degenerate %llu, "
       "no sample %llu; clipped %llu -> %llu; binned %llu (%llu tile entries)\n"
       "  tiles %llu: touched %llu, skipped (empty) %llu\n"
       "  blocks tested %llu: rejected by edges %llu, by coarse depth %llu; accepted whole %llu, partial %llu\n"
       "  pixels tested %llu, covered %llu, passed depth %llu\n",
       title.c_str(), msTotal, msVertex, msSetupBin, msRaster, ull(verticesIn), ull(verticesNonFinite),
-      ull(trianglesIn), ull(trianglesDroppedNonFinite), ull(trianglesCulledFrustum), ull(trianglesCulledFacing),
+      ull(trianglesIn), ull(trianglesDroppedInvalid), ull(trianglesCulledFrustum), ull(trianglesCulledFacing),
       ull(trianglesCulledDegenerate), ull(trianglesCulledNoSample), ull(trianglesClipped),
       ull(trianglesFromClipping), ull(trianglesBinned), ull(binEntries), ull(tilesTotal), ull(tilesTouched),
       ull(tilesSkipped), ull(blocksTested), ull(blocksRejectedEdge), ull(blocksRejectedDepth),

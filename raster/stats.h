@@ -13,8 +13,9 @@ struct PassStats {
   uint64_t verticesNonFinite = 0;  // dropped: NaN/Inf clip position
   // Triangle front end.
   uint64_t trianglesIn = 0;
-  uint64_t trianglesDroppedNonFinite = 0;  // used a non-finite vertex
-  uint64_t trianglesCulledFrustum = 0;     // all vertices outside one frustum plane
+  uint64_t trianglesDroppedInvalid = 0;    // used a non-finite vertex or an out-of-range index
+  // The culling counters below also count the pieces of clipped triangles (trianglesFromClipping).
+  uint64_t trianglesCulledFrustum = 0;     // all vertices outside one frustum plane, or clipped away
   uint64_t trianglesCulledFacing = 0;      // back/front-face culling
   uint64_t trianglesCulledDegenerate = 0;  // zero area after snapping
   uint64_t trianglesCulledNoSample = 0;    // bounding box holds no pixel centre
@@ -29,8 +30,8 @@ struct PassStats {
   uint64_t blocksTested = 0;              // 8x8 blocks a triangle's bounding box touched
   uint64_t blocksRejectedEdge = 0;        // outside an edge
   uint64_t blocksRejectedDepth = 0;       // coarse depth: behind everything already in the block
-  uint64_t blocksAccepted = 0;            // fully inside all three edges
-  uint64_t blocksPartial = 0;
+  uint64_t blocksAccepted = 0;            // evaluated, fully inside all three edges
+  uint64_t blocksPartial = 0;             // evaluated, crossed by an edge (tested = sum of these four)
   // Pixels.
   uint64_t pixelsTested = 0;              // pixel centres evaluated in SIMD lanes
   uint64_t pixelsCovered = 0;             // inside the triangle

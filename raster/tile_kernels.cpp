@@ -51,6 +51,8 @@ HWY_INLINE void rasterBlock(const TileJob& job, const SetupTri& t, const EdgeCoe
     ++c.rejectedDepth;
     return;
   }
+  if (whole[0] && whole[1] && whole[2]) ++c.accepted;
+  else ++c.partial;
   const int px0 = bx * kBlockSize, py0 = by * kBlockSize;
   int32_t q[3], sa[3], sb[3];
   for (int k = 0; k < 3; ++k) {
@@ -146,7 +148,6 @@ void rasterTriangle(const TileJob& job, const SetupTri& t, uint32_t triIndex, Co
     // block-level test: every vertex lies within two block widths of every pixel of the block and
     // |A|, |B| < 8 * 256, so |E| < 2^24 and E >> 8 easily fits the 32-bit lanes.
     ++c.blocksTested;
-    ++c.partial;
     const bool whole[3] = {false, false, false};
     rasterBlock<kWantHits>(job, t, ec, bx0, by0, e, whole, triIndex, c);
     return;
@@ -173,7 +174,6 @@ void rasterTriangle(const TileJob& job, const SetupTri& t, uint32_t triIndex, Co
       if (reject) {
         ++c.rejectedEdge;
       } else {
-        if (whole[0] && whole[1] && whole[2]) ++c.accepted; else ++c.partial;
         rasterBlock<kWantHits>(job, t, ec, bx, by, eb, whole, triIndex, c);
       }
       for (int k = 0; k < 3; ++k) eb[k] += stepX[k];

@@ -144,7 +144,7 @@ TEST(Coverage, NonFiniteVerticesAreDroppedAndCounted) {
   PassStats st;
   test::drawCount(r, width, height, v, idx, CullMode::None, &st);
   EXPECT_EQ(st.verticesNonFinite, 1u);
-  EXPECT_EQ(st.trianglesDroppedNonFinite, 2u);
+  EXPECT_EQ(st.trianglesDroppedInvalid, 2u);
   EXPECT_EQ(st.trianglesBinned, 1u);
 }
 

@@ -36,8 +36,9 @@ Soup randomSoup(int tris, uint64_t seed) {
 }
 
 // Renders color (RGBA8) and depth; returns the bytes of both.
-std::vector<uint8_t> render(const Soup& s, int threads, int tileLog2, int chunk, PassStats* stats = nullptr) {
-  Rasterizer r({.threads = threads, .tileLog2 = tileLog2, .chunkTriangles = chunk});
+std::vector<uint8_t> render(const Soup& s, int threads, int tileLog2, int chunk, PassStats* stats = nullptr,
+                            int batchChunks = 0) {
+  Rasterizer r({.threads = threads, .tileLog2 = tileLog2, .chunkTriangles = chunk, .batchChunks = batchChunks});
   DepthTarget depth(kW, kH, 1.0f);
   ImageRgba8 color(kW, kH);
   DrawDesc d;
@@ -87,6 +88,17 @@ TEST(Determinism, ChunkSizeDoesNotChangeTheImage) {
   // Submission order is preserved per tile however the triangles are cut into chunks.
   const Soup s = randomSoup(3000, 44);
   EXPECT_EQ(render(s, 2, 6, 64), render(s, 2, 6, 4096));
+}
+
+TEST(Determinism, BatchSizeDoesNotChangeTheImage) {
+  // Batches of one chunk (many set-up/raster rounds) against one batch holding everything.
+  const Soup s = randomSoup(3000, 46);
+  PassStats many, one;
+  const auto a = render(s, 2, 6, 64, &many, 1);
+  const auto b = render(s, 2, 6, 64, &one, 1 << 20);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(many.tilesTouched, one.tilesTouched);
+  EXPECT_EQ(many.pixelsDepthPassed, one.pixelsDepthPassed);
 }
 
 TEST(Skipping, EmptyTilesAreSkippedAndCounted) {

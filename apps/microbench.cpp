@@ -1,0 +1,86 @@
+// penumbra_microbench: Google Benchmark timings of the pipeline's inner loops and of the standard
+// workloads (shared/WORKLOADS.md) at several thread counts. Links raster/ and engine_core only, so
+// it can be copied to another machine with three shared libraries (TBB, Highway, benchmark).
+//
+//   penumbra_microbench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
+#include <cstdlib>
+#include <random>
+
+#include "apps/workloads.h"
+#include "engine/synth.h"
+#include "raster/pipeline.h"
+#include "raster/setup.h"
+
+namespace {
+
+using namespace penumbra;
+
+// Setup of small random screen-space triangles (the front end's per-triangle cost).
+void BM_SetupTriangle(benchmark::State& state) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const raster::Viewport vp{2048, 2048};
+  const raster::GuardPlanes guard = raster::guardPlanes(vp);
+  std::vector<raster::ScreenVert> v;
+  for (int i = 0; i < 3 * 4096; ++i) {
+    const float cx = u(rng) * 2048.0f, cy = u(rng) * 2048.0f;
+    v.push_back(raster::projectVertex((cx / 1024.0f - 1.0f), (1.0f - cy / 1024.0f), 0.5f, 1.0f, vp, guard));
+  }
+  for (size_t i = 0; i < v.size(); i += 3) {  // small triangles: move vertices 1 and 2 near vertex 0
+    v[i + 1].x = v[i].x + 700, v[i + 1].y = v[i].y + 90;
+    v[i + 2].x = v[i].x + 200, v[i + 2].y = v[i].y + 650;
+  }
+  raster::SetupTri t;
+  size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(raster::setupTriangle(v[i], v[i + 1], v[i + 2], raster::CullMode::None, vp, t, nullptr, nullptr));
+    benchmark::DoNotOptimize(t);
+    i = (i + 3) % v.size();
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_SetupTriangle);
+
+const engine::Mesh& synth(long n) {
+  static engine::Mesh m1 = engine::makeSynthMesh(1000000);
+  static engine::Mesh m4;
+  if (n == 1000000) return m1;
+  if (m4.positions.empty()) m4 = engine::makeSynthMesh(4000000);
+  return m4;
+}
+
+// Whole frames of W1/W2 (clear + draw + wait); args: triangles, threads.
+// Pipeline configuration from the environment, for tuning runs: PENUMBRA_TILE_LOG2,
+// PENUMBRA_CHUNK, PENUMBRA_BATCH_CHUNKS.
+raster::RasterConfig configFromEnv() {
+  raster::RasterConfig c;
+  if (const char* v = std::getenv("PENUMBRA_TILE_LOG2")) c.tileLog2 = std::atoi(v);
+  if (const char* v = std::getenv("PENUMBRA_CHUNK")) c.chunkTriangles = std::atoi(v);
+  if (const char* v = std::getenv("PENUMBRA_BATCH_CHUNKS")) c.batchChunks = std::atoi(v);
+  return c;
+}
+
+template <bool kW1>
+void BM_Workload(benchmark::State& state) {
+  const long tris = state.range(0);
+  const int threads = static_cast<int>(state.range(1));
+  const raster::RasterConfig config = configFromEnv();
+  tbb::global_control allow(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+  const engine::Mesh& mesh = synth(tris);
+  for (auto _ : state) {
+    // One frame per iteration: runWorkload with no warm-up beyond its own 3 frames is too coarse
+    // here, so time frames through a minimal run (1 frame, no minimum time).
+    const apps::WorkloadResult r = apps::runWorkload(kW1 ? "W1" : "W2", "synth", mesh, threads, 5, 0.0, nullptr, nullptr, config);
+    state.SetIterationTime(r.medianMs * 1e-3);
+    state.counters["mtris_per_s"] = r.mtrisPerS;
+  }
+}
+BENCHMARK(BM_Workload<true>)->Name("W1")->ArgsProduct({{1000000, 4000000}, {1, 2, 4, 8, 16}})->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_Workload<false>)->Name("W2")->ArgsProduct({{1000000, 4000000}, {1, 2, 4, 8, 16}})->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();
