@@ -35,6 +35,42 @@ struct Counters {
   uint64_t pixelsTested = 0, pixelsCovered = 0, pixelsPassed = 0;
 };
 
+// After a triangle wrote pixels `passMask` of block (bx, by): refresh the coarse depth bound the
+// test needs from the block's 64 stored values (padding included), widen the other one
+// conservatively, and record the hit for the fragment stage.
+template <bool kWantHits>
+HWY_INLINE void finishBlock(const TileJob& job, const SetupTri& t, int bx, int by, uint64_t passMask, uint32_t triIndex) {
+  const hn::CappedTag<float, 8> df;
+  const int N = static_cast<int>(hn::Lanes(df));
+  const size_t bi = static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx);
+  const bool less = job.func == DepthFunc::Less, greater = job.func == DepthFunc::Greater;
+  if (job.depthWrite) {
+    const float* depthBlock = job.depth + static_cast<size_t>(by * kBlockSize) * static_cast<size_t>(job.depthStride) +
+                              static_cast<size_t>(bx * kBlockSize);
+    if (less || greater) {
+      auto v = hn::LoadU(df, depthBlock);
+      for (int j = 0; j < kBlockSize; ++j) {
+        const float* drow = depthBlock + static_cast<size_t>(j) * static_cast<size_t>(job.depthStride);
+        for (int i0 = 0; i0 < kBlockSize; i0 += N)
+          v = less ? hn::Max(v, hn::LoadU(df, drow + i0)) : hn::Min(v, hn::LoadU(df, drow + i0));
+      }
+      if (less) {
+        job.blockMax[bi] = hn::GetLane(hn::MaxOfLanes(df, v));
+        job.blockMin[bi] = std::min(job.blockMin[bi], t.zmin);
+      } else {
+        job.blockMin[bi] = hn::GetLane(hn::MinOfLanes(df, v));
+        job.blockMax[bi] = std::max(job.blockMax[bi], t.zmax);
+      }
+    } else {
+      job.blockMin[bi] = std::min(job.blockMin[bi], t.zmin);
+      job.blockMax[bi] = std::max(job.blockMax[bi], t.zmax);
+    }
+  }
+  if constexpr (kWantHits) {
+    job.hits->push_back(BlockHit{triIndex, static_cast<uint16_t>(bx), static_cast<uint16_t>(by), passMask});
+  }
+}
+
 // One 8x8 block of a triangle: coverage from the exact edge values e[k] at the block's (0, 0)
 // pixel (bias included; whole[k]: edge k holds for the whole block), coarse depth, SIMD depth test
 // and write. Only rows and columns inside the triangle's bounding box are evaluated.
@@ -104,30 +140,88 @@ HWY_INLINE void rasterBlock(const TileJob& job, const SetupTri& t, const EdgeCoe
   c.pixelsCovered += covered;
   c.pixelsPassed += static_cast<uint64_t>(std::popcount(passMask));
   if (passMask == 0) return;
-  if (job.depthWrite) {
-    // Refresh the coarse bound the test needs from the block's 64 stored values (padding
-    // included); the other bound is widened conservatively.
-    if (less || greater) {
-      auto v = hn::LoadU(df, depthBlock);
-      for (int j = 0; j < kBlockSize; ++j) {
-        const float* drow = depthBlock + static_cast<size_t>(j) * static_cast<size_t>(job.depthStride);
-        for (int i0 = 0; i0 < kBlockSize; i0 += N) v = less ? hn::Max(v, hn::LoadU(df, drow + i0)) : hn::Min(v, hn::LoadU(df, drow + i0));
-      }
-      if (less) {
-        job.blockMax[bi] = hn::GetLane(hn::MaxOfLanes(df, v));
-        job.blockMin[bi] = std::min(job.blockMin[bi], t.zmin);
+  finishBlock<kWantHits>(job, t, bx, by, passMask, triIndex);
+}
+
+template <bool kWantHits>
+HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, const EdgeCoefficients& ec, int x0, int x1, int y0,
+                            int y1, uint32_t triIndex, Counters& c) {
+  const hn::CappedTag<int32_t, 8> di;
+  const hn::Rebind<float, decltype(di)> df;
+  const int N = static_cast<int>(hn::Lanes(di));
+  const bool less = job.func == DepthFunc::Less, greater = job.func == DepthFunc::Greater;
+  const int bx0 = x0 >> kBlockLog2, bx1 = x1 >> kBlockLog2, by0 = y0 >> kBlockLog2, by1 = y1 >> kBlockLog2;
+  // Coarse depth per touched block (at most 2 x 2).
+  bool live[2][2] = {{false, false}, {false, false}};
+  bool any = false;
+  for (int by = by0; by <= by1; ++by)
+    for (int bx = bx0; bx <= bx1; ++bx) {
+      ++c.blocksTested;
+      const size_t bi = static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx);
+      if ((less && t.zmin >= job.blockMax[bi]) || (greater && t.zmax <= job.blockMin[bi])) {
+        ++c.rejectedDepth;
       } else {
-        job.blockMin[bi] = hn::GetLane(hn::MinOfLanes(df, v));
-        job.blockMax[bi] = std::max(job.blockMax[bi], t.zmax);
+        ++c.partial;
+        live[by - by0][bx - bx0] = true;
+        any = true;
       }
-    } else {
-      job.blockMin[bi] = std::min(job.blockMin[bi], t.zmin);
-      job.blockMax[bi] = std::max(job.blockMax[bi], t.zmax);
+    }
+  if (!any) return;
+
+  const int gx0 = bx0 * kBlockSize;
+  int32_t q[3];
+  for (int k = 0; k < 3; ++k) q[k] = static_cast<int32_t>(edgeAt(t, ec, k, gx0, y0) >> kSubpixelBits);
+  const auto iota = hn::Iota(di, 0);
+  const auto vzmin = hn::Set(df, t.zmin), vzmax = hn::Set(df, t.zmax);
+  uint64_t pass[2][2] = {{0, 0}, {0, 0}};
+  size_t covered = 0;
+  for (int g = 0; g <= bx1 - bx0; ++g) {
+    for (int i0 = 0; i0 < kBlockSize; i0 += N) {
+      const int colBase = g * kBlockSize + i0;  // lane offset from gx0
+      if (gx0 + colBase > x1 || gx0 + colBase + N <= x0) continue;
+      const auto lane = hn::Add(iota, hn::Set(di, colBase));
+      const auto colMask = hn::And(hn::Gt(lane, hn::Set(di, x0 - gx0 - 1)), hn::Lt(lane, hn::Set(di, x1 - gx0 + 1)));
+      auto e0 = hn::Add(hn::Set(di, q[0]), hn::Mul(lane, hn::Set(di, ec.a[0])));
+      auto e1 = hn::Add(hn::Set(di, q[1]), hn::Mul(lane, hn::Set(di, ec.a[1])));
+      auto e2 = hn::Add(hn::Set(di, q[2]), hn::Mul(lane, hn::Set(di, ec.a[2])));
+      const auto b0 = hn::Set(di, ec.b[0]), b1 = hn::Set(di, ec.b[1]), b2 = hn::Set(di, ec.b[2]);
+      const auto dx = hn::ConvertTo(df, hn::Add(lane, hn::Set(di, gx0 - t.minX)));
+      const auto zrow = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.zx), dx));
+      for (int y = y0; y <= y1; ++y) {
+        const int br = (y >> kBlockLog2) - by0;
+        if (live[br][g]) {
+          float* drow = job.depth + static_cast<size_t>(y) * static_cast<size_t>(job.depthStride) + gx0 + colBase;
+          const auto inside = hn::Gt(hn::Or(hn::Or(e0, e1), e2), hn::Set(di, -1));  // all three >= 0
+          const auto mf = hn::RebindMask(df, hn::And(colMask, inside));
+          auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(y - t.minY)));
+          z = hn::Min(hn::Max(z, vzmin), vzmax);
+          const auto old = hn::LoadU(df, drow);
+          auto ok = mf;
+          if (less) ok = hn::And(ok, hn::Lt(z, old));
+          else if (greater) ok = hn::And(ok, hn::Gt(z, old));
+          if (job.depthWrite) hn::StoreU(hn::IfThenElse(ok, z, old), df, drow);
+          uint8_t bits[8] = {0};
+          hn::StoreMaskBits(df, ok, bits);
+          const uint64_t laneBits = (N >= 8) ? 0xffu : ((1u << N) - 1u);
+          pass[br][g] |= (uint64_t{bits[0]} & laneBits) << ((y & (kBlockSize - 1)) * kBlockSize + i0);
+          covered += hn::CountTrue(df, mf);
+          c.pixelsTested += static_cast<uint64_t>(std::min(x1 - gx0 - colBase, N - 1) - std::max(x0 - gx0 - colBase, 0) + 1);
+        }
+        e0 = hn::Add(e0, b0);
+        e1 = hn::Add(e1, b1);
+        e2 = hn::Add(e2, b2);
+      }
     }
   }
-  if constexpr (kWantHits) {
-    job.hits->push_back(BlockHit{triIndex, static_cast<uint16_t>(bx), static_cast<uint16_t>(by), passMask});
-  }
+  c.pixelsCovered += covered;
+  for (int br = 0; br <= by1 - by0; ++br)
+    for (int g = 0; g <= bx1 - bx0; ++g) {
+      const uint64_t m = pass[br][g];
+      if (m == 0) continue;
+      c.pixelsPassed += static_cast<uint64_t>(std::popcount(m));
+      const int bx = bx0 + g, by = by0 + br;
+      finishBlock<kWantHits>(job, t, bx, by, m, triIndex);
+    }
 }
 
 template <bool kWantHits>
@@ -138,20 +232,14 @@ void rasterTriangle(const TileJob& job, const SetupTri& t, uint32_t triIndex, Co
   const int bx0 = x0 >> kBlockLog2, bx1 = (x1 - 1) >> kBlockLog2;
   const int by0 = y0 >> kBlockLog2, by1 = (y1 - 1) >> kBlockLog2;
   const EdgeCoefficients ec = edgeCoefficients(t);
-  int64_t e[3];
-  for (int k = 0; k < 3; ++k) e[k] = edgeAt(t, ec, k, int64_t{bx0} * kBlockSize, int64_t{by0} * kBlockSize);
-
   const int32_t spanX = std::max({t.vx[0], t.vx[1], t.vx[2]}) - std::min({t.vx[0], t.vx[1], t.vx[2]});
   const int32_t spanY = std::max({t.vy[0], t.vy[1], t.vy[2]}) - std::min({t.vy[0], t.vy[1], t.vy[2]});
-  if (bx0 == bx1 && by0 == by1 && spanX < kBlockSize * kSubpixelOne && spanY < kBlockSize * kSubpixelOne) {
-    // The common small triangle: narrower than a block, its samples inside one block. No
-    // block-level test: every vertex lies within two block widths of every pixel of the block and
-    // |A|, |B| < 8 * 256, so |E| < 2^24 and E >> 8 easily fits the 32-bit lanes.
-    ++c.blocksTested;
-    const bool whole[3] = {false, false, false};
-    rasterBlock<kWantHits>(job, t, ec, bx0, by0, e, whole, triIndex, c);
+  if (spanX < kBlockSize * kSubpixelOne && spanY < kBlockSize * kSubpixelOne) {
+    rasterSmall<kWantHits>(job, t, ec, x0, x1 - 1, y0, y1 - 1, triIndex, c);
     return;
   }
+  int64_t e[3];
+  for (int k = 0; k < 3; ++k) e[k] = edgeAt(t, ec, k, int64_t{bx0} * kBlockSize, int64_t{by0} * kBlockSize);
 
   int64_t stepX[3], stepY[3], extMax[3], extMin[3];
   for (int k = 0; k < 3; ++k) {
