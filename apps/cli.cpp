@@ -25,9 +25,10 @@ glm::vec3 parseVec3(const std::string& option, const std::string& text) {
 }
 
 void Progress::step(int index, int total, const std::string& what) {
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (s < delay_) return;
   if (!any_) tty_ = isatty(STDERR_FILENO) != 0;
   any_ = true;
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   std::fprintf(stderr, "%s[%s %d/%d %.0fs] %s%s", tty_ ? "\r\033[K" : "", task_.c_str(), index, total, s, what.c_str(),
                tty_ ? "" : "\n");
   std::fflush(stderr);

@@ -25,15 +25,17 @@ struct UsageError {
 // "X,Y,Z" -> vector; anything else is a UsageError naming the option.
 glm::vec3 parseVec3(const std::string& option, const std::string& text);
 
-// Progress on stderr: one line per step (overwritten in place on a terminal).
+// Progress on stderr: one line per step (overwritten in place on a terminal). With a delay, steps
+// are shown only once the task has run that many seconds (quick commands stay quiet).
 class Progress {
  public:
-  explicit Progress(std::string task) : task_(std::move(task)) {}
+  explicit Progress(std::string task, double delaySeconds = 0.0) : task_(std::move(task)), delay_(delaySeconds) {}
   void step(int index, int total, const std::string& what);
   void done();
 
  private:
   std::string task_;
+  double delay_ = 0.0;
   bool tty_ = false, any_ = false;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };

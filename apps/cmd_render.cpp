@@ -60,6 +60,7 @@ int runRender(const RenderArgs& a) {
   if (!a.exr.empty()) checkExt("--exr", a.exr, {".exr"});
 
   allowThreads(a.threads);
+  Progress progress("render", 2.0);
   engine::Result<engine::Scene> scene = a.scene.empty()
                                             ? engine::makeBuiltinScene(a.builtin.empty() ? engine::kDefaultScene : a.builtin)
                                             : engine::loadScene(a.scene);
@@ -78,12 +79,15 @@ int runRender(const RenderArgs& a) {
     options.camera = cam;
   }
   engine::Renderer renderer(a.threads);
+  progress.step(1, 2, "rendering " + std::to_string(scene->triangleCount()) + " triangles");
   const engine::Frame frame = renderer.render(*scene, options);
+  progress.step(2, 2, "writing " + (output.empty() ? std::string("the image") : output));
   const std::string path = output.empty() ? (scene->name.empty() ? std::string("penumbra") : scene->name) + ".png" : output;
   if (engine::Status st = engine::writeImage(path, frame.color); !st) fail(st.error());
   if (!a.exr.empty()) {
     if (engine::Status st = engine::writeImage(a.exr, frame.linear); !st) fail(st.error());
   }
+  progress.done();
   if (a.stats) {
     std::printf("scene '%s': %zu meshes, %zu instances, %zu triangles, %d threads\n", scene->name.c_str(),
                 scene->meshes.size(), scene->instances.size(), scene->triangleCount(), renderer.rasterizer().threads());
