@@ -35,6 +35,34 @@ struct Counters {
   uint64_t pixelsTested = 0, pixelsCovered = 0, pixelsPassed = 0;
 };
 
+// Coarse depth: every depth of the triangle is at or behind everything stored in block bi.
+HWY_INLINE bool hiddenByCoarseDepth(const TileJob& job, const SetupTri& t, size_t bi) {
+  return (job.func == DepthFunc::Less && t.zmin >= job.blockMax[bi]) ||
+         (job.func == DepthFunc::Greater && t.zmax <= job.blockMin[bi]);
+}
+
+// One row of up to N lanes: coverage from the three edge vectors (inside when all three >= 0)
+// and the column mask, depth from the row's plane values clamped to the triangle's range, early
+// depth test and write. Returns the lanes that passed, as the low bits; counts covered lanes.
+HWY_INLINE uint64_t depthTestRow(const TileJob& job, const SetupTri& t, auto e0, auto e1, auto e2, auto colMask,
+                                 auto z, float* drow, size_t& covered) {
+  const hn::CappedTag<int32_t, 8> di;
+  const hn::Rebind<float, decltype(di)> df;
+  const auto inside = hn::Gt(hn::Or(hn::Or(e0, e1), e2), hn::Set(di, -1));
+  const auto mf = hn::RebindMask(df, hn::And(colMask, inside));
+  z = hn::Min(hn::Max(z, hn::Set(df, t.zmin)), hn::Set(df, t.zmax));
+  const auto old = hn::LoadU(df, drow);
+  auto pass = mf;
+  if (job.func == DepthFunc::Less) pass = hn::And(pass, hn::Lt(z, old));
+  else if (job.func == DepthFunc::Greater) pass = hn::And(pass, hn::Gt(z, old));
+  if (job.depthWrite) hn::StoreU(hn::IfThenElse(pass, z, old), df, drow);
+  uint8_t bits[8] = {0};
+  hn::StoreMaskBits(df, pass, bits);
+  covered += hn::CountTrue(df, mf);
+  const size_t n = hn::Lanes(df);
+  return uint64_t{bits[0]} & (n >= 8 ? 0xffu : ((1u << n) - 1u));
+}
+
 // After a triangle wrote pixels `passMask` of block (bx, by): refresh the coarse depth bound the
 // test needs from the block's 64 stored values (padding included), widen the other one
 // conservatively, and record the hit for the fragment stage.
@@ -81,9 +109,7 @@ HWY_INLINE void rasterBlock(const TileJob& job, const SetupTri& t, const EdgeCoe
   const hn::Rebind<float, decltype(di)> df;
   const int N = static_cast<int>(hn::Lanes(di));
   const size_t bi = static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx);
-  const bool less = job.func == DepthFunc::Less, greater = job.func == DepthFunc::Greater;
-  if ((less && t.zmin >= job.blockMax[bi]) || (greater && t.zmax <= job.blockMin[bi])) {
-    // Coarse depth: every depth of this triangle is at or behind everything stored here.
+  if (hiddenByCoarseDepth(job, t, bi)) {
     ++c.rejectedDepth;
     return;
   }
@@ -100,7 +126,6 @@ HWY_INLINE void rasterBlock(const TileJob& job, const SetupTri& t, const EdgeCoe
   const int colBegin = std::max(t.minX - px0, 0), colEnd = std::min(t.maxX - px0 + 1, kBlockSize);
   const auto iota = hn::Iota(di, 0);
   const auto colLo = hn::Set(di, colBegin - 1), colHi = hn::Set(di, colEnd);
-  const auto vzmin = hn::Set(df, t.zmin), vzmax = hn::Set(df, t.zmax);
   uint64_t passMask = 0;
   size_t covered = 0;
   float* depthBlock = job.depth + static_cast<size_t>(py0) * static_cast<size_t>(job.depthStride) + px0;
@@ -116,21 +141,9 @@ HWY_INLINE void rasterBlock(const TileJob& job, const SetupTri& t, const EdgeCoe
     const auto dx = hn::ConvertTo(df, hn::Add(lane, hn::Set(di, px0 - t.minX)));
     const auto zrow = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.zx), dx));
     for (int j = rowBegin; j < rowEnd; ++j) {
-      float* drow = depthBlock + static_cast<size_t>(j) * static_cast<size_t>(job.depthStride);
-      const auto inside = hn::Gt(hn::Or(hn::Or(e0, e1), e2), hn::Set(di, -1));  // all three >= 0
-      const auto mf = hn::RebindMask(df, hn::And(colMask, inside));
-      auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(py0 + j - t.minY)));
-      z = hn::Min(hn::Max(z, vzmin), vzmax);
-      const auto old = hn::LoadU(df, drow + i0);
-      auto pass = mf;
-      if (less) pass = hn::And(pass, hn::Lt(z, old));
-      else if (greater) pass = hn::And(pass, hn::Gt(z, old));
-      if (job.depthWrite) hn::StoreU(hn::IfThenElse(pass, z, old), df, drow + i0);
-      uint8_t bits[8] = {0};
-      hn::StoreMaskBits(df, pass, bits);
-      const uint64_t laneBits = (N >= 8) ? 0xffu : ((1u << N) - 1u);
-      passMask |= (uint64_t{bits[0]} & laneBits) << (j * kBlockSize + i0);
-      covered += hn::CountTrue(df, mf);
+      float* drow = depthBlock + static_cast<size_t>(j) * static_cast<size_t>(job.depthStride) + i0;
+      const auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(py0 + j - t.minY)));
+      passMask |= depthTestRow(job, t, e0, e1, e2, colMask, z, drow, covered) << (j * kBlockSize + i0);
       e0 = hn::Add(e0, b0);
       e1 = hn::Add(e1, b1);
       e2 = hn::Add(e2, b2);
@@ -149,7 +162,6 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, const EdgeCoe
   const hn::CappedTag<int32_t, 8> di;
   const hn::Rebind<float, decltype(di)> df;
   const int N = static_cast<int>(hn::Lanes(di));
-  const bool less = job.func == DepthFunc::Less, greater = job.func == DepthFunc::Greater;
   const int bx0 = x0 >> kBlockLog2, bx1 = x1 >> kBlockLog2, by0 = y0 >> kBlockLog2, by1 = y1 >> kBlockLog2;
   // Coarse depth per touched block (at most 2 x 2).
   bool live[2][2] = {{false, false}, {false, false}};
@@ -158,7 +170,7 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, const EdgeCoe
     for (int bx = bx0; bx <= bx1; ++bx) {
       ++c.blocksTested;
       const size_t bi = static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx);
-      if ((less && t.zmin >= job.blockMax[bi]) || (greater && t.zmax <= job.blockMin[bi])) {
+      if (hiddenByCoarseDepth(job, t, bi)) {
         ++c.rejectedDepth;
       } else {
         ++c.partial;
@@ -172,7 +184,6 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, const EdgeCoe
   int32_t q[3];
   for (int k = 0; k < 3; ++k) q[k] = static_cast<int32_t>(edgeAt(t, ec, k, gx0, y0) >> kSubpixelBits);
   const auto iota = hn::Iota(di, 0);
-  const auto vzmin = hn::Set(df, t.zmin), vzmax = hn::Set(df, t.zmax);
   uint64_t pass[2][2] = {{0, 0}, {0, 0}};
   size_t covered = 0;
   for (int g = 0; g <= bx1 - bx0; ++g) {
@@ -191,20 +202,9 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, const EdgeCoe
         const int br = (y >> kBlockLog2) - by0;
         if (live[br][g]) {
           float* drow = job.depth + static_cast<size_t>(y) * static_cast<size_t>(job.depthStride) + gx0 + colBase;
-          const auto inside = hn::Gt(hn::Or(hn::Or(e0, e1), e2), hn::Set(di, -1));  // all three >= 0
-          const auto mf = hn::RebindMask(df, hn::And(colMask, inside));
-          auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(y - t.minY)));
-          z = hn::Min(hn::Max(z, vzmin), vzmax);
-          const auto old = hn::LoadU(df, drow);
-          auto ok = mf;
-          if (less) ok = hn::And(ok, hn::Lt(z, old));
-          else if (greater) ok = hn::And(ok, hn::Gt(z, old));
-          if (job.depthWrite) hn::StoreU(hn::IfThenElse(ok, z, old), df, drow);
-          uint8_t bits[8] = {0};
-          hn::StoreMaskBits(df, ok, bits);
-          const uint64_t laneBits = (N >= 8) ? 0xffu : ((1u << N) - 1u);
-          pass[br][g] |= (uint64_t{bits[0]} & laneBits) << ((y & (kBlockSize - 1)) * kBlockSize + i0);
-          covered += hn::CountTrue(df, mf);
+          const auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(y - t.minY)));
+          pass[br][g] |= depthTestRow(job, t, e0, e1, e2, colMask, z, drow, covered)
+                         << ((y & (kBlockSize - 1)) * kBlockSize + i0);
           c.pixelsTested += static_cast<uint64_t>(std::min(x1 - gx0 - colBase, N - 1) - std::max(x0 - gx0 - colBase, 0) + 1);
         }
         e0 = hn::Add(e0, b0);
