@@ -101,6 +101,17 @@ TEST_F(Cli, RendersTheDefaultSceneAndAGltfFile) {
   EXPECT_NE(r.out.find("G-buffer pass"), std::string::npos) << r.out;
 }
 
+TEST_F(Cli, RendersTheSceneFilesOfTheRepository) {
+  for (const auto& e : fs::directory_iterator(fs::path(PENUMBRA_SOURCE_DIR) / "scenes")) {
+    if (e.path().extension() != ".json") continue;
+    const std::string out = path(e.path().stem().string() + ".png");
+    const CliResult r = run("render " + e.path().string() + " --width 64 --height 48 --exr " + path("x.exr") + " -o " + out);
+    EXPECT_EQ(r.status, 0) << e.path() << "\n" << r.out;
+    EXPECT_TRUE(fs::exists(out)) << out;
+    EXPECT_TRUE(fs::exists(path("x.exr")));
+  }
+}
+
 TEST_F(Cli, MissingFile) { expectBadInput("render " + path("nope.glb") + " -o " + path("o.png"), "nope.glb", path("o.png")); }
 
 TEST_F(Cli, MalformedFiles) {
