@@ -1,6 +1,7 @@
 #include <tbb/global_control.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "apps/cli.h"
@@ -83,9 +84,13 @@ int runRender(const RenderArgs& a) {
   const engine::Frame frame = renderer.render(*scene, options);
   progress.step(2, 2, "writing " + (output.empty() ? std::string("the image") : output));
   const std::string path = output.empty() ? (scene->name.empty() ? std::string("penumbra") : scene->name) + ".png" : output;
-  if (engine::Status st = engine::writeImage(path, frame.color); !st) fail(st.error());
+  // Both files or neither: the EXR first, then the PNG; if the PNG fails the EXR is removed.
   if (!a.exr.empty()) {
     if (engine::Status st = engine::writeImage(a.exr, frame.linear); !st) fail(st.error());
+  }
+  if (engine::Status st = engine::writeImage(path, frame.color); !st) {
+    if (!a.exr.empty()) std::filesystem::remove(a.exr);
+    fail(st.error());
   }
   progress.done();
   if (a.stats) {

@@ -55,7 +55,10 @@ class Cli : public ::testing::Test {
     EXPECT_EQ(lines, 1) << "not one line: " << r.out;
     EXPECT_FALSE(fs::exists(out)) << out;
     // No temporary left behind either.
-    for (const auto& e : fs::directory_iterator(dir_)) EXPECT_EQ(e.path().extension() == ".png", false) << e.path();
+    for (const auto& e : fs::directory_iterator(dir_)) {
+      const auto ext = e.path().extension();
+      EXPECT_TRUE(ext != ".png" && ext != ".exr") << "left behind: " << e.path();
+    }
   }
   fs::path dir_;
 };
@@ -163,6 +166,12 @@ TEST_F(Cli, BadOptions) {
 TEST_F(Cli, UnwritableOutputLeavesNothing) {
   const std::string o = path("no/such/dir/o.png");
   expectBadInput("render --width 16 --height 16 -o " + o, "o.png", o);
+  // The EXR can be written but the PNG cannot: neither is left behind.
+  expectBadInput("render --width 16 --height 16 --exr " + path("x.exr") + " -o " + o, "o.png", o);
+  EXPECT_FALSE(fs::exists(path("x.exr")));
+  // The PNG could be written but the EXR cannot: nothing written.
+  expectBadInput("render --width 16 --height 16 --exr " + path("no/dir/x.exr") + " -o " + path("ok.png"), "x.exr",
+                 path("ok.png"));
 }
 
 TEST_F(Cli, BenchRasterPrintsTheWorkloadFields) {
