@@ -1,5 +1,6 @@
 #include <tbb/global_control.h>
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -59,6 +60,14 @@ int runRender(const RenderArgs& a) {
   };
   if (!output.empty()) checkExt("--output", output, {".png"});
   if (!a.exr.empty()) checkExt("--exr", a.exr, {".exr"});
+  // Output folders must exist before any work is done.
+  auto checkFolder = [](const std::string& path) {
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    std::error_code ec;
+    if (!dir.empty() && !std::filesystem::is_directory(dir, ec)) fail(path, "output folder does not exist");
+  };
+  if (!output.empty()) checkFolder(output);
+  if (!a.exr.empty()) checkFolder(a.exr);
 
   allowThreads(a.threads);
   Progress progress("render", 2.0);
@@ -83,7 +92,15 @@ int runRender(const RenderArgs& a) {
   progress.step(1, 2, "rendering " + std::to_string(scene->triangleCount()) + " triangles");
   const engine::Frame frame = renderer.render(*scene, options);
   progress.step(2, 2, "writing " + (output.empty() ? std::string("the image") : output));
-  const std::string path = output.empty() ? (scene->name.empty() ? std::string("penumbra") : scene->name) + ".png" : output;
+  // Default output: <scene file stem or built-in name>.png in the current folder, in safe characters.
+  std::string path = output;
+  if (path.empty()) {
+    std::string stem = a.scene.empty() ? (a.builtin.empty() ? std::string(engine::kDefaultScene) : a.builtin)
+                                       : std::filesystem::path(a.scene).stem().string();
+    for (char& ch : stem)
+      if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_' && ch != '.') ch = '_';
+    path = (stem.empty() ? std::string("penumbra") : stem) + ".png";
+  }
   // Both files or neither: the EXR first, then the PNG; if the PNG fails the EXR is removed.
   if (!a.exr.empty()) {
     if (engine::Status st = engine::writeImage(a.exr, frame.linear); !st) fail(st.error());

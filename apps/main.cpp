@@ -59,7 +59,8 @@ int main(int argc, char** argv) {
   if (argc > 1 && argv[1][0] != '-') {
     const std::string sub = argv[1];
     if (sub != "render" && sub != "bench" && sub != "stress") {
-      std::fprintf(stderr, "penumbra: error: unknown subcommand '%s' (valid: render, bench, stress)\n", argv[1]);
+      const engine::Error e{"", "unknown subcommand '" + sub + "' (valid: render, bench, stress)"};
+      std::fprintf(stderr, "penumbra: error: %s\n", e.line().c_str());
       return kExitBadInput;
     }
   }
@@ -70,7 +71,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "penumbra: error: %s (see penumbra --help)\n", e.what());
+    std::fprintf(stderr, "penumbra: error: %s (see penumbra --help)\n", engine::Error{"", e.what()}.line().c_str());
     return kExitBadInput;
   }
 
@@ -83,6 +84,9 @@ int main(int argc, char** argv) {
     return kExitBadInput;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "penumbra: error: out of memory\n");
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "penumbra: error: %s\n", engine::Error{"", e.what()}.line().c_str());
     return kExitBadInput;
   }
   return 0;

@@ -12,7 +12,13 @@ namespace penumbra::engine {
 struct Error {
   std::string where;  // a file path, "option --width", "scene 'x'", ...
   std::string what;   // the problem, one line, no trailing period
-  std::string line() const { return where.empty() ? what : where + ": " + what; }
+  // One line: control characters (which file contents may carry into a message) become spaces.
+  std::string line() const {
+    std::string s = where.empty() ? what : where + ": " + what;
+    for (char& c : s)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+    return s;
+  }
 };
 
 // Either a value or an Error.

@@ -66,6 +66,60 @@ bool captureImage(tinygltf::Image* image, const int index, std::string*, std::st
   return true;
 }
 
+// glTF 2.0 (3.7.2.1): without normals, clients must compute flat normals. Vertices are unshared so
+// that every triangle gets its own face normal.
+void flatShade(Mesh& mesh) {
+  Mesh flat;
+  flat.name = mesh.name;
+  flat.material = mesh.material;
+  const bool uv = !mesh.texcoords.empty();
+  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const glm::vec3 a = mesh.positions[mesh.indices[t]], b = mesh.positions[mesh.indices[t + 1]],
+                    c = mesh.positions[mesh.indices[t + 2]];
+    glm::vec3 nrm = glm::cross(b - a, c - a);
+    const float len = glm::length(nrm);
+    nrm = len > 0.0f && std::isfinite(len) ? nrm / len : glm::vec3(0.0f, 0.0f, 1.0f);
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t i = mesh.indices[t + static_cast<size_t>(k)];
+      flat.indices.push_back(static_cast<uint32_t>(flat.positions.size()));
+      flat.positions.push_back(mesh.positions[i]);
+      flat.normals.push_back(nrm);
+      if (uv) flat.texcoords.push_back(mesh.texcoords[i]);
+    }
+  }
+  mesh = std::move(flat);
+}
+
+// SAX handler that only tracks nesting depth and stops past kMax levels.
+struct DepthLimit : nlohmann::json_sax<nlohmann::json> {
+  static constexpr int kMax = 256;
+  int depth = 0;
+  bool tooDeep = false;
+  bool push() {
+    tooDeep = ++depth > kMax;
+    return !tooDeep;
+  }
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return push(); }
+  bool key(string_t&) override { return true; }
+  bool end_object() override {
+    --depth;
+    return true;
+  }
+  bool start_array(std::size_t) override { return push(); }
+  bool end_array() override {
+    --depth;
+    return true;
+  }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+};
+
 int componentCount(int type) {
   switch (type) {
     case TINYGLTF_TYPE_SCALAR: return 1;
@@ -174,6 +228,7 @@ class Loader {
   }
 
   Status parse(const std::vector<unsigned char>& data, bool binary) {
+    if (Status s = checkJsonDepth(data, binary); !s) return s;
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(&captureImage, &encoded_);
     std::string err, warn;
@@ -191,6 +246,34 @@ class Loader {
     if (ok) return Ok{};
     if (binary) return fail("invalid glTF binary: " + condense(err));
     return explainTextFailure(data, err);
+  }
+
+  // tinygltf converts "extras" and "extensions" with a recursive function and no depth limit, so
+  // deeply nested JSON would overflow the stack. nlohmann's SAX parser is iterative: measure the
+  // depth with it first (in a .glb, of the JSON chunk; a malformed container is left to tinygltf).
+  Status checkJsonDepth(const std::vector<unsigned char>& data, bool binary) const {
+    const unsigned char* begin = data.data();
+    size_t size = data.size();
+    if (binary) {
+      auto u32 = [&](size_t at) {
+        uint32_t v = 0;
+        std::memcpy(&v, data.data() + at, 4);
+        return v;
+      };
+      if (size < 20 || u32(16) != 0x4E4F534Au) return Ok{};  // "JSON" chunk
+      const size_t chunk = u32(12);
+      if (chunk > size - 20) return Ok{};
+      begin += 20;
+      size = chunk;
+    }
+    DepthLimit limit;
+    try {
+      nlohmann::json::sax_parse(begin, begin + size, &limit);
+    } catch (const std::exception&) {
+      return Ok{};  // not JSON: tinygltf says so
+    }
+    if (limit.tooDeep) return fail("JSON nested deeper than " + str(DepthLimit::kMax) + " levels");
+    return Ok{};
   }
 
   // Says whether the text is no glTF at all (not JSON, or JSON without an asset) or a broken one.
@@ -246,6 +329,9 @@ class Loader {
     v.componentType = a.componentType;
     v.normalized = a.normalized;
     v.count = a.count;
+    // 2^26 elements (64 M vertices or indices) per accessor: far beyond any scene we render, and
+    // small enough that a file claiming more cannot make us allocate gigabytes.
+    if (a.count > (size_t{1} << 26)) return fail(name + " has " + str(a.count) + " elements (more than 2^26)");
     const int bytes = componentBytes(a.componentType);
     if (v.components == 0) return fail(name + " has an invalid type");
     if (bytes == 0) return fail(name + " has an invalid component type " + str(a.componentType));
@@ -454,6 +540,9 @@ class Loader {
     mesh.indices = triangleList(order, mode);
     if (mesh.indices.size() % 3 != 0)
       return fail(owner + ": " + str(mesh.indices.size()) + " vertices do not make whole triangles");
+    for (uint32_t i : mesh.indices)
+      if (i >= n) return fail(owner + ": index " + str(static_cast<size_t>(i)) + " out of range (" + str(n) + " vertices)");
+    if (mesh.normals.empty()) flatShade(mesh);
     scene_.meshes.push_back(std::move(mesh));
     out.push_back(static_cast<int>(scene_.meshes.size()) - 1);
     return Ok{};

@@ -25,7 +25,7 @@
 namespace penumbra::engine {
 
 inline constexpr int kMaxImageSide = 32768;
-inline constexpr size_t kMaxImagePixels = size_t{1} << 28;  // 1 GiB as RGBA8
+inline constexpr size_t kMaxImagePixels = size_t{1} << 26;  // 256 MiB as RGBA8
 
 Status writeImage(const std::string& path, const raster::ImageRgba8& image);
 Status writeImage(const std::string& path, const raster::ImageFloat4& image);

@@ -151,6 +151,7 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
       }
       continue;
     }
+    if (tris == 0) continue;  // nothing to draw (an empty index list would mean "non-indexed")
     visible.push_back(i);
     st.trianglesSubmitted += tris;
   }

@@ -93,7 +93,11 @@ Status validateScene(Scene& scene, const std::string& where) {
     const Camera& cam = *scene.camera;
     if (!(cam.fovYDegrees > 0.0f && cam.fovYDegrees < 180.0f))
       return Error{where, "camera field of view must be in (0, 180) degrees"};
-    if (glm::length(cam.target - cam.eye) <= 0.0f) return Error{where, "camera eye and target coincide"};
+    const bool finite = std::isfinite(cam.eye.x) && std::isfinite(cam.eye.y) && std::isfinite(cam.eye.z) &&
+                        std::isfinite(cam.target.x) && std::isfinite(cam.target.y) && std::isfinite(cam.target.z) &&
+                        std::isfinite(cam.up.x) && std::isfinite(cam.up.y) && std::isfinite(cam.up.z);
+    if (!finite) return Error{where, "camera position, target or up is not finite"};
+    if (!(glm::length(cam.target - cam.eye) > 0.0f)) return Error{where, "camera eye and target coincide"};
   }
   return Ok{};
 }

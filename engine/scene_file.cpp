@@ -293,6 +293,9 @@ class SceneParser {
     } else {
       invalid(member(at, "shape") + " must be one of 'plane', 'box', 'sphere', 'cylinder', 'torus'");
     }
+    triangles_ += mesh.indices.size() / 3;
+    if (triangles_ > kMaxSceneTriangles)
+      invalid(at + ": the scene's shapes exceed " + std::to_string(kMaxSceneTriangles) + " triangles");
     mesh.name = text(e, "name", at, shape + " " + std::to_string(scene_.meshes.size()));
     if (const json* m = find(e, "material")) material(*m, member(at, "material"), mesh);
     const glm::mat4 m = transform(e, at);
@@ -343,6 +346,10 @@ class SceneParser {
     }
   }
 
+  // Procedural shapes may hold at most this many triangles in all (a few lines of JSON could
+  // otherwise ask for gigabytes).
+  static constexpr size_t kMaxSceneTriangles = size_t{1} << 26;
+  size_t triangles_ = 0;
   std::string path_;
   Scene scene_;
 };
@@ -379,6 +386,8 @@ Result<Scene> parseSceneFile(const std::string& text, const std::string& path) {
     return Error{path, e.what};
   } catch (const json::exception& e) {
     return Error{path, std::string("invalid scene: ") + e.what()};
+  } catch (const std::bad_alloc&) {
+    return Error{path, "out of memory building the scene"};
   }
   if (Status s = validateScene(scene, path); !s) return s.error();
   return scene;

@@ -160,6 +160,18 @@ class GltfLoader : public testing::Test {
     EXPECT_TRUE(r.ok()) << r.error().line();
     return r.ok() ? std::move(*r) : Scene{};
   }
+  // The corners of the mesh's triangles, in order: independent of how vertices are shared (without
+  // NORMAL, the loader unshares vertices to give each triangle its flat normal).
+  static std::vector<glm::vec3> corners(const Mesh& m) {
+    std::vector<glm::vec3> c;
+    for (uint32_t i : m.indices) c.push_back(m.positions[i]);
+    return c;
+  }
+  static std::vector<glm::vec3> corners(const std::vector<glm::vec3>& pos, const std::vector<uint32_t>& idx) {
+    std::vector<glm::vec3> c;
+    for (uint32_t i : idx) c.push_back(pos[i]);
+    return c;
+  }
   // The error must be one line naming the file, and contain `expected`.
   void expectError(const std::string& file, const std::string& expected) {
     Result<Scene> r = loadGltf(file);
@@ -231,7 +243,7 @@ TEST_F(GltfLoader, EveryIndexComponentType) {
     g.node({{"mesh", 0}});
     const Scene s = load(write("quad.gltf", g.text()));
     ASSERT_EQ(s.meshes.size(), 1u);
-    EXPECT_EQ(s.meshes[0].indices, expected);
+    EXPECT_EQ(corners(s.meshes[0]), corners(quad, expected));
   }
   // Signed or float indices are not allowed.
   Gltf g;
@@ -240,6 +252,22 @@ TEST_F(GltfLoader, EveryIndexComponentType) {
   g.mesh(json::array({{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}));
   g.node({{"mesh", 0}});
   expectError(write("float-indices.gltf", g.text()), "index accessor 1");
+}
+
+TEST_F(GltfLoader, MissingNormalsAreFlatPerTriangle) {
+  // A folded quad (two triangles at 90 degrees sharing an edge) without NORMAL: each triangle gets
+  // its own face normal (glTF 2.0 3.7.2.1), not a smoothed average at the shared vertices.
+  Gltf g;
+  const int pos = g.positions({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
+  const int idx = g.indices(std::vector<uint16_t>{0, 1, 2, 0, 3, 1}, kU16);
+  g.mesh(json::array({{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}));
+  g.node({{"mesh", 0}});
+  const Scene s = load(write("fold.gltf", g.text()));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  const Mesh& m = s.meshes[0];
+  ASSERT_EQ(m.indices.size(), 6u);
+  for (int k = 0; k < 3; ++k) expectVec(m.normals[m.indices[static_cast<size_t>(k)]], {0, 0, 1});
+  for (int k = 3; k < 6; ++k) expectVec(m.normals[m.indices[static_cast<size_t>(k)]], {0, 1, 0});
 }
 
 TEST_F(GltfLoader, NonIndexedPrimitive) {
@@ -260,10 +288,11 @@ TEST_F(GltfLoader, StripsAndFansBecomeTriangleLists) {
   g.node({{"mesh", 0}});
   const Scene s = load(write("strip.gltf", g.text()));
   ASSERT_EQ(s.meshes.size(), 2u);
+  const std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}};
   // Strip: odd triangles swap their last two vertices, keeping one winding (glTF 2.0, 3.7.2.1).
-  EXPECT_EQ(s.meshes[0].indices, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2, 2, 3, 4}));
+  EXPECT_EQ(corners(s.meshes[0]), corners(p, {0, 1, 2, 1, 3, 2, 2, 3, 4}));
   // Fan: triangle i is (i + 1, i + 2, 0).
-  EXPECT_EQ(s.meshes[1].indices, (std::vector<uint32_t>{1, 2, 0, 2, 3, 0, 3, 4, 0}));
+  EXPECT_EQ(corners(s.meshes[1]), corners(p, {1, 2, 0, 2, 3, 0, 3, 4, 0}));
   EXPECT_EQ(s.instances.size(), 2u);
 }
 
@@ -496,6 +525,15 @@ TEST_F(GltfLoader, TruncatedGlb) {
   expectError(write("short.glb", std::vector<unsigned char>(glb.begin(), glb.end() - 4)), "invalid glTF binary");
 }
 
+TEST_F(GltfLoader, DeeplyNestedJsonIsAnErrorNotACrash) {
+  // tinygltf converts extras recursively: 100000 levels would overflow the stack.
+  Gltf g = triangle();
+  std::string text = g.text();
+  const std::string nest = std::string(100000, '[') + std::string(100000, ']');
+  text.insert(text.find('{') + 1, "\"extras\":" + nest + ",");
+  expectError(write("deep.gltf", text), "nested deeper than");
+}
+
 TEST_F(GltfLoader, AccessorPastTheEndOfItsBufferView) {
   Gltf g = triangle();
   g.doc["accessors"][0]["count"] = 4;  // the view holds 3 positions
@@ -505,7 +543,12 @@ TEST_F(GltfLoader, AccessorPastTheEndOfItsBufferView) {
   expectError(write("offset.gltf", g.text()), "accessor 0 reads past the end of buffer view 0");
   g = triangle();
   g.doc["accessors"][0]["count"] = 1ull << 62;  // would overflow a naive size computation
-  expectError(write("huge.gltf", g.text()), "accessor 0 reads past the end of buffer view 0");
+  expectError(write("huge.gltf", g.text()), "more than 2^26");
+  // A huge accessor without a buffer view (all zeros) must not allocate gigabytes either.
+  g = triangle();
+  g.doc["accessors"][0].erase("bufferView");
+  g.doc["accessors"][0]["count"] = 1ull << 31;
+  expectError(write("zeros.gltf", g.text()), "more than 2^26");
   g = triangle();
   g.doc["bufferViews"][0]["byteStride"] = 8;  // less than a VEC3 of floats
   expectError(write("stride.gltf", g.text()), "byteStride");
