@@ -90,6 +90,33 @@ void flatShade(Mesh& mesh) {
   mesh = std::move(flat);
 }
 
+// File access for the buffers and images a glTF names: regular files only. tinygltf's own
+// callbacks fopen() the path, which blocks forever on a FIFO.
+bool regularFileExists(const std::string& path, void*) {
+  std::error_code ec;
+  return fs::is_regular_file(path, ec);
+}
+
+bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    if (err) *err += "not a regular file: " + path;
+    return false;
+  }
+  const uintmax_t size = fs::file_size(path, ec);
+  if (ec || size > std::numeric_limits<unsigned int>::max()) {
+    if (err) *err += "cannot read (or larger than 4 GiB): " + path;
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  out->resize(static_cast<size_t>(size));
+  if (!in || (size > 0 && !in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size)))) {
+    if (err) *err += "cannot read: " + path;
+    return false;
+  }
+  return true;
+}
+
 // SAX handler that only tracks nesting depth and stops past kMax levels.
 struct DepthLimit : nlohmann::json_sax<nlohmann::json> {
   static constexpr int kMax = 256;
@@ -231,6 +258,8 @@ class Loader {
     if (Status s = checkJsonDepth(data, binary); !s) return s;
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(&captureImage, &encoded_);
+    gltf.SetFsCallbacks(tinygltf::FsCallbacks{&regularFileExists, &tinygltf::ExpandFilePath, &readRegularFile,
+                                              &tinygltf::WriteWholeFile, nullptr});
     std::string err, warn;
     const std::string baseDir = fs::path(path_).parent_path().string();
     bool ok = false;

@@ -4,6 +4,7 @@
 #include "engine/gltf_loader.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -523,6 +524,14 @@ TEST_F(GltfLoader, TruncatedGlb) {
   expectError(write("half.glb", std::vector<unsigned char>(glb.begin(), glb.begin() + static_cast<long>(glb.size() / 2))),
               "invalid glTF binary");
   expectError(write("short.glb", std::vector<unsigned char>(glb.begin(), glb.end() - 4)), "invalid glTF binary");
+}
+
+TEST_F(GltfLoader, BufferNamingAFifoIsAnErrorNotAHang) {
+  // Opening a FIFO for reading blocks until a writer appears: the loader must not open it.
+  ASSERT_EQ(::mkfifo(path("pipe.bin").c_str(), 0600), 0);
+  expectError(write("fifo.gltf", triangle().textWithExternalBuffer("pipe.bin")), "pipe.bin");
+  ASSERT_EQ(::mkfifo(path("pipe.gltf").c_str(), 0600), 0);
+  expectError(path("pipe.gltf"), "cannot open file");
 }
 
 TEST_F(GltfLoader, DeeplyNestedJsonIsAnErrorNotACrash) {
