@@ -11,6 +11,7 @@
 
 #include "apps/workloads.h"
 #include "engine/synth.h"
+#include "raster/kernels.h"
 #include "raster/pipeline.h"
 #include "raster/setup.h"
 
@@ -43,6 +44,29 @@ void BM_SetupTriangle(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_SetupTriangle);
+
+// Image kernels on a 2048^2 float image (shadow-map sized): the pre-filtering building blocks.
+raster::ImageFloat noiseImage() {
+  raster::ImageFloat img(2048, 2048);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) img.at(x, y) = u(rng);
+  return img;
+}
+
+void BM_GaussianBlur2048(benchmark::State& state) {
+  const raster::ImageFloat src = noiseImage();
+  raster::ImageFloat dst;
+  for (auto _ : state) raster::gaussianBlur(src, dst, static_cast<float>(state.range(0)));
+}
+BENCHMARK(BM_GaussianBlur2048)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_SummedAreaTable2048(benchmark::State& state) {
+  const raster::ImageFloat src = noiseImage();
+  for (auto _ : state) benchmark::DoNotOptimize(raster::buildSat(src));
+}
+BENCHMARK(BM_SummedAreaTable2048)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 const engine::Mesh& synth(long n) {
   static engine::Mesh m1 = engine::makeSynthMesh(1000000);

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing (Debian 12 packages), builds everything and runs the whole test suite:
 #   1. Release build, all tests (labels: unit, cli);
-#   2. AddressSanitizer + UndefinedBehaviorSanitizer build of the unit tests.
+#   2. AddressSanitizer + UndefinedBehaviorSanitizer build of everything, all tests again (the CLI
+#      tests then run the sanitized `penumbra` binary).
 # Set PENUMBRA_SKIP_SANITIZE=1 to run only the first part.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,11 +15,10 @@ cmake --build build/release -j"$jobs"
 ctest --test-dir build/release -j"$jobs" --output-on-failure --timeout 900
 
 if [ "${PENUMBRA_SKIP_SANITIZE:-0}" != 1 ]; then
-  echo "== ASan + UBSan build of the unit tests"
-  cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPENUMBRA_SANITIZE=ON \
-    -DPENUMBRA_BUILD_APPS=OFF >/dev/null
+  echo "== ASan + UBSan build and tests"
+  cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPENUMBRA_SANITIZE=ON >/dev/null
   cmake --build build/sanitize -j"$jobs"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS=suppressions="$PWD/tests/lsan.supp" \
     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --test-dir build/sanitize -j"$jobs" -L unit --output-on-failure --timeout 1800
+    ctest --test-dir build/sanitize -j"$jobs" --output-on-failure --timeout 1800
 fi
