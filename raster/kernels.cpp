@@ -302,13 +302,14 @@ Image<uint32_t> quantize(const ImageFloat& src, float lo, float hi, int bits) {
   return out;
 }
 
-// --- Min/max pyramid ---------------------------------------------------------------------------
+// --- Min/max pyramid and mip chain: one ceil-halving reduction -----------------------------------
 
 namespace {
 
-// Fills dst (already ceil-halved) from src: each texel combines its existing children with op.
-template <class Op>
-void reduceLevel(const ImageFloat& src, ImageFloat& dst, Op op) {
+// Fills dst (already ceil-halved) from src: each texel is combine(children, n) over its existing
+// children (1 to 4), always in the order top-left, top-right, bottom-left, bottom-right.
+template <class Combine>
+void reduceLevel(const ImageFloat& src, ImageFloat& dst, Combine combine) {
   const int sw = src.width(), sh = src.height();
   forRows(dst.height(), kRowGrain, [&](int y) {
     const float* r0 = src.row(2 * y);
@@ -317,13 +318,15 @@ void reduceLevel(const ImageFloat& src, ImageFloat& dst, Op op) {
     for (int x = 0; x < dst.width(); ++x) {
       const int c = 2 * x;
       const bool right = c + 1 < sw;
-      float v = r0[c];
-      if (right) v = op(v, r0[c + 1]);
+      float children[4];
+      int n = 0;
+      children[n++] = r0[c];
+      if (right) children[n++] = r0[c + 1];
       if (r1) {
-        v = op(v, r1[c]);
-        if (right) v = op(v, r1[c + 1]);
+        children[n++] = r1[c];
+        if (right) children[n++] = r1[c + 1];
       }
-      d[x] = v;
+      d[x] = combine(children, n);
     }
   });
 }
@@ -338,8 +341,8 @@ MinMaxPyramid buildMinMaxPyramid(const ImageFloat& depth) {
   while (p.mins.back().width() > 1 || p.mins.back().height() > 1) {
     const int w = half(p.mins.back().width()), h = half(p.mins.back().height());
     ImageFloat mn(w, h), mx(w, h);
-    reduceLevel(p.mins.back(), mn, [](float a, float b) { return std::min(a, b); });
-    reduceLevel(p.maxs.back(), mx, [](float a, float b) { return std::max(a, b); });
+    reduceLevel(p.mins.back(), mn, [](const float* v, int n) { return *std::min_element(v, v + n); });
+    reduceLevel(p.maxs.back(), mx, [](const float* v, int n) { return *std::max_element(v, v + n); });
     p.mins.push_back(std::move(mn));
     p.maxs.push_back(std::move(mx));
   }
@@ -375,30 +378,10 @@ std::vector<ImageFloat> mipChain(const ImageFloat& src) {
     const ImageFloat& prev = mips.back();
     const int sw = prev.width(), sh = prev.height();
     ImageFloat next(half(sw), half(sh));
-    forRows(next.height(), kRowGrain, [&](int y) {
-      const float* r0 = prev.row(2 * y);
-      const float* r1 = 2 * y + 1 < sh ? prev.row(2 * y + 1) : nullptr;
-      float* d = next.row(y);
-      for (int x = 0; x < next.width(); ++x) {
-        const int c = 2 * x;
-        const bool right = c + 1 < sw;
-        // Children in a fixed order: top-left, top-right, bottom-left, bottom-right.
-        double sum = static_cast<double>(r0[c]);
-        double count = 1.0;
-        if (right) {
-          sum += static_cast<double>(r0[c + 1]);
-          count += 1.0;
-        }
-        if (r1) {
-          sum += static_cast<double>(r1[c]);
-          count += 1.0;
-          if (right) {
-            sum += static_cast<double>(r1[c + 1]);
-            count += 1.0;
-          }
-        }
-        d[x] = static_cast<float>(sum / count);
-      }
+    reduceLevel(prev, next, [](const float* v, int n) {
+      double sum = 0.0;  // in double, children in their fixed order
+      for (int i = 0; i < n; ++i) sum += static_cast<double>(v[i]);
+      return static_cast<float>(sum / n);
     });
     mips.push_back(std::move(next));
   }
