@@ -3,7 +3,7 @@
 # Runs apt-get as root, or through sudo when not root.
 set -euo pipefail
 pkgs=(g++ cmake ninja-build pkg-config git
-      libglm-dev libtbb-dev libhwy-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
+      libglm-dev libtbb-dev libhwy-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libembree-dev
       libopenimageio-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev)
 missing=()
 for p in "${pkgs[@]}"; do

@@ -1,0 +1,74 @@
+#include "shadows/esm.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "shadows/moments.h"
+
+namespace penumbra::shadows {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+// exp(c) for z = 1 must stay below FLT_MAX = e^88.72 (esm.h).
+constexpr double kMaxExponent = 88.0;
+
+class Esm final : public Technique {
+ public:
+  void prepare(ShadowContext& ctx, const ParamSet& params) override {
+    bias_ = biasParams(params);
+    prepareMomentMap(
+        ctx, params,
+        MomentWarp{
+            .kind = MomentKind::Esm, .cPos = static_cast<float>(params.number("exponent")), .cNeg = 0.0f},
+        map_);
+  }
+  void evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) override {
+    const auto t0 = Clock::now();
+    const double c = static_cast<double>(map_.warp.cPos);
+    forEachReceiver(ctx, visibility, [&](int, int, const Receiver& r) {
+      const glm::vec3 v = map_.view.toView(r.position);
+      const MomentSample s = map_.sample(map_.view.toMap(v));
+      const double z = receiverDepth(map_, v, r.normal, bias_);
+      // The filtered exp(c z_occ) is a mean of values >= 1 (z_occ >= 0); the max only guards log.
+      const double logMean = std::log(std::max(s.m[0], std::numeric_limits<double>::min()));
+      // exp never reaches 0: values below 2^-24 (under float's resolution at 1, and under any
+      // display's) are flushed to 0 so that a full umbra is exactly 0, as for every technique.
+      const double vis = std::clamp(std::exp(logMean - c * z), 0.0, 1.0);
+      return vis < 0x1p-24 ? 0.0f : static_cast<float>(vis);
+    });
+    ctx.times.msEvaluate += msSince(t0);
+  }
+
+ private:
+  MomentMap map_;
+  BiasParams bias_;
+};
+
+}  // namespace
+
+TechniqueInfo esmTechnique() {
+  std::vector<ParamSpec> params = momentMapParams();
+  params.push_back({.name = "exponent",
+                    .kind = ParamKind::Float,
+                    .defaultValue = 80,
+                    .minValue = 1,
+                    .maxValue = kMaxExponent,
+                    .choices = {},
+                    .help = "c of exp(c z), z = normalized depth; <= 88 keeps exp(c) below FLT_MAX"});
+  return {.name = "esm",
+          .summary =
+              "exponential shadow map: Gaussian-filtered exp(c z), V = E[exp(c z_occ)] exp(-c z_r); fixed "
+              "penumbra width",
+          .params = std::move(params),
+          .benchSettings = {"", "exponent=40", "filter_sigma=4"},
+          .isReference = false,
+          .make = [] { return std::make_unique<Esm>(); }};
+}
+
+}  // namespace penumbra::shadows

@@ -1,0 +1,669 @@
+#include "shadows/ground_truth.h"
+
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <glm/geometric.hpp>
+#include <random>
+#include <stdexcept>
+#include <system_error>
+#include <vector>
+
+#include "shadows/sampling.h"
+
+namespace penumbra::shadows {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+// Bumped whenever the image for given inputs could change (sampling, ray offsets, file layout): it
+// is part of the key and of the file header, so older cache files are never read.
+constexpr uint32_t kFormatVersion = 1;
+constexpr char kMagic[8] = {'P', 'N', 'B', 'R', 'G', 'T', '\r', '\n'};
+constexpr size_t kHeaderBytes = 40;
+constexpr int kMaxSamples = 65536;
+
+// Rays end this far short of the light (in units of the origin-to-light-point segment).
+constexpr float kTFar = 1.0f - 1e-4f;
+// eps = kEpsDistance * |x - light.center| + kEpsUlps * max_i |x_i|; kEpsUlps is about 32 float ulps
+// (an ulp of v is at most 2^-23 |v| = 1.19e-7 |v|).
+constexpr float kEpsDistance = 1e-4f;
+constexpr float kEpsUlps = 4e-6f;
+
+// ---- Embree errors ------------------------------------------------------------------------------
+
+const char* errorName(RTCError e) {
+  switch (e) {
+    case RTC_ERROR_NONE:
+      return "no error";
+    case RTC_ERROR_UNKNOWN:
+      return "unknown error";
+    case RTC_ERROR_INVALID_ARGUMENT:
+      return "invalid argument";
+    case RTC_ERROR_INVALID_OPERATION:
+      return "invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY:
+      return "out of memory";
+    case RTC_ERROR_UNSUPPORTED_CPU:
+      return "unsupported CPU";
+    case RTC_ERROR_CANCELLED:
+      return "cancelled";
+  }
+  return "unrecognised error";
+}
+
+// Throws when Embree reports an error on `device` (nullptr: device creation) after `what`.
+void checkEmbree(RTCDevice device, const char* what) {
+  const RTCError e = rtcGetDeviceError(device);
+  if (e != RTC_ERROR_NONE)
+    throw std::runtime_error(std::string("embree: ") + what + " failed: " + errorName(e));
+}
+
+// ---- Hashing ------------------------------------------------------------------------------------
+
+// splitmix64's finalizer: a bijection on 64-bit words with good avalanche.
+constexpr uint64_t mix64(uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+// Hash of a sequence of 32-bit words, taken two at a time: h = mix64((h ^ word) + golden ratio).
+// Each step is a bijection of h for a fixed word, so sequences differing in one word differ.
+class Hasher {
+ public:
+  void u32(uint32_t v) {
+    if (!pending_) {
+      lo_ = v;
+      pending_ = true;
+    } else {
+      word(uint64_t{lo_} | (uint64_t{v} << 32));
+      pending_ = false;
+    }
+  }
+  void f32(float v) { u32(std::bit_cast<uint32_t>(v)); }
+  void vec3(glm::vec3 v) {
+    f32(v.x);
+    f32(v.y);
+    f32(v.z);
+  }
+  uint64_t finish() {
+    if (pending_) u32(0);
+    word(count_);
+    return h_;
+  }
+
+ private:
+  void word(uint64_t w) {
+    h_ = mix64((h_ ^ w) + 0x9e3779b97f4a7c15ULL);
+    ++count_;
+  }
+  uint64_t h_ = 0x50656e756d627261ULL;  // "Penumbra"
+  uint64_t count_ = 0;
+  uint32_t lo_ = 0;
+  bool pending_ = false;
+};
+
+uint64_t payloadHash(const float* values, size_t n) {
+  Hasher h;
+  for (size_t i = 0; i < n; ++i) h.f32(values[i]);
+  return h.finish();
+}
+
+// ---- Sampling -----------------------------------------------------------------------------------
+
+// Light uv of sample `sample` of the grid for pixel (px, py): cell (sample % columns,
+// sample / columns), jittered by hash3(px, py, 2 * sample + dimension).
+glm::vec2 samplePoint(uint32_t px, uint32_t py, int sample, SampleGrid g) {
+  const int i = sample % g.columns, j = sample / g.columns;
+  const uint32_t d = 2u * static_cast<uint32_t>(sample);
+  return {(static_cast<float>(i) + unitFloat(hash3(px, py, d))) / static_cast<float>(g.columns),
+          (static_cast<float>(j) + unitFloat(hash3(px, py, d + 1u))) / static_cast<float>(g.rows)};
+}
+
+// One receiver's rays (see the header: origin offset to the side the ray leaves towards).
+struct ReceiverRays {
+  glm::vec3 x, n;
+  float eps;
+
+  ReceiverRays(const Receiver& r, const RectLight& light) : x(r.position), n(r.normal) {
+    const float big = std::max({std::fabs(x.x), std::fabs(x.y), std::fabs(x.z)});
+    eps = kEpsDistance * glm::length(x - light.center) + kEpsUlps * big;
+  }
+  // The ray towards light point y: origin, direction (origin -> y is t in [0, 1]), tnear.
+  void make(glm::vec3 y, glm::vec3& org, glm::vec3& dir, float& tnear) const {
+    const float side = glm::dot(n, y - x) >= 0.0f ? eps : -eps;
+    org = x + side * n;
+    dir = y - org;
+    tnear = eps / glm::length(dir);
+  }
+};
+
+// Embree's packet types and calls by width.
+template <int N>
+struct PacketCall;
+template <>
+struct PacketCall<4> {
+  using Ray = RTCRay4;
+  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
+    rtcOccluded4(valid, s, c, r);
+  }
+};
+template <>
+struct PacketCall<8> {
+  using Ray = RTCRay8;
+  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
+    rtcOccluded8(valid, s, c, r);
+  }
+};
+template <>
+struct PacketCall<16> {
+  using Ray = RTCRay16;
+  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
+    rtcOccluded16(valid, s, c, r);
+  }
+};
+
+// Unoccluded rays of one receiver, N rays per Embree call.
+template <int N>
+int litPacket(RTCScene scene, const ReceiverRays& rr, const RectLight& light, uint32_t px, uint32_t py,
+              SampleGrid grid) {
+  using Call = PacketCall<N>;
+  typename Call::Ray ray;
+  alignas(64) int valid[N];
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // one origin, directions within the light's cone
+  const int count = grid.count();
+  int lit = 0;
+  for (int base = 0; base < count; base += N) {
+    const int lanes = std::min(N, count - base);
+    for (int l = 0; l < N; ++l) {
+      valid[l] = l < lanes ? -1 : 0;
+      glm::vec3 org(0.0f), dir(0.0f, 0.0f, 1.0f);
+      float tnear = 0.0f;
+      if (l < lanes) rr.make(light.point(samplePoint(px, py, base + l, grid)), org, dir, tnear);
+      ray.org_x[l] = org.x;
+      ray.org_y[l] = org.y;
+      ray.org_z[l] = org.z;
+      ray.dir_x[l] = dir.x;
+      ray.dir_y[l] = dir.y;
+      ray.dir_z[l] = dir.z;
+      ray.tnear[l] = tnear;
+      ray.tfar[l] = kTFar;
+      ray.time[l] = 0.0f;
+      ray.mask[l] = ~0u;
+      ray.id[l] = 0;
+      ray.flags[l] = 0;
+    }
+    Call::occluded(valid, scene, &ctx, &ray);
+    for (int l = 0; l < lanes; ++l) lit += ray.tfar[l] >= 0.0f ? 1 : 0;  // occluded: tfar = -inf
+  }
+  return lit;
+}
+
+int litSingle(RTCScene scene, const ReceiverRays& rr, const RectLight& light, uint32_t px, uint32_t py,
+              SampleGrid grid) {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  int lit = 0;
+  for (int s = 0; s < grid.count(); ++s) {
+    glm::vec3 org, dir;
+    float tnear;
+    rr.make(light.point(samplePoint(px, py, s, grid)), org, dir, tnear);
+    RTCRay ray{.org_x = org.x,
+               .org_y = org.y,
+               .org_z = org.z,
+               .tnear = tnear,
+               .dir_x = dir.x,
+               .dir_y = dir.y,
+               .dir_z = dir.z,
+               .time = 0.0f,
+               .tfar = kTFar,
+               .mask = ~0u,
+               .id = 0,
+               .flags = 0};
+    rtcOccluded1(scene, &ctx, &ray);
+    lit += ray.tfar >= 0.0f ? 1 : 0;
+  }
+  return lit;
+}
+
+std::string hex16(uint64_t v) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+}  // namespace
+
+// ---- Grid ---------------------------------------------------------------------------------------
+
+SampleGrid sampleGrid(const RectLight& light, int samples) {
+  if (samples < 1 || samples > kMaxSamples)
+    throw std::invalid_argument("ground truth: samples must be in [1, 65536], not " +
+                                std::to_string(samples));
+  const double aspect = static_cast<double>(light.width) / static_cast<double>(light.height);
+  const double c = std::round(std::sqrt(static_cast<double>(samples) * aspect));
+  SampleGrid g;
+  g.columns = std::isfinite(c) ? static_cast<int>(std::clamp(c, 1.0, static_cast<double>(samples))) : samples;
+  g.rows = (samples + g.columns - 1) / g.columns;
+  return g;
+}
+
+// ---- Scene --------------------------------------------------------------------------------------
+
+RayScene::RayScene(const Geometry& casters) {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) checkEmbree(nullptr, "rtcNewDevice");
+  try {
+    const ssize_t native16 = rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED);
+    const ssize_t native8 = rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED);
+    const ssize_t native4 = rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_NATIVE_RAY4_SUPPORTED);
+    packetWidth_ = native16 ? 16 : native8 ? 8 : native4 ? 4 : 1;
+    scene_ = rtcNewScene(device_);
+    checkEmbree(device_, "rtcNewScene");
+    // Robust traversal: box tests never miss a triangle the ray meets, so the answer is the
+    // triangle tests' whatever the BVH's shape.
+    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+
+    // Copy the vertices of the finite triangles (a non-finite one blocks nothing), renumbered in
+    // order of first use.
+    constexpr uint32_t kUnused = ~0u;
+    std::vector<uint32_t> remap(casters.positions.size(), kUnused);
+    std::vector<glm::vec3> vertices;
+    std::vector<uint32_t> indices;
+    indices.reserve(casters.indices.size());
+    for (size_t t = 0; t < casters.triangles(); ++t) {
+      bool finite = true;
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = casters.indices[3 * t + static_cast<size_t>(k)];
+        if (v >= casters.positions.size())
+          throw std::invalid_argument("ground truth: caster index " + std::to_string(v) + " out of range");
+        const glm::vec3 p = casters.positions[v];
+        finite = finite && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+      }
+      if (!finite) {
+        ++dropped_;
+        continue;
+      }
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = casters.indices[3 * t + static_cast<size_t>(k)];
+        if (remap[v] == kUnused) {
+          remap[v] = static_cast<uint32_t>(vertices.size());
+          vertices.push_back(casters.positions[v]);
+        }
+        indices.push_back(remap[v]);
+      }
+    }
+    triangles_ = indices.size() / 3;
+    if (triangles_ > 0) {
+      RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+      checkEmbree(device_, "rtcNewGeometry");
+      // Buffers Embree allocates itself are padded so that the last vertex can be read with a
+      // 16-byte load.
+      auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+          geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertices.size()));
+      auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+          geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), triangles_));
+      if (!vb || !ib) {
+        rtcReleaseGeometry(geom);
+        checkEmbree(device_, "rtcSetNewGeometryBuffer");
+        throw std::runtime_error("embree: rtcSetNewGeometryBuffer returned no buffer");
+      }
+      for (size_t i = 0; i < vertices.size(); ++i) {
+        vb[3 * i + 0] = vertices[i].x;
+        vb[3 * i + 1] = vertices[i].y;
+        vb[3 * i + 2] = vertices[i].z;
+      }
+      std::copy(indices.begin(), indices.end(), ib);
+      rtcCommitGeometry(geom);
+      rtcAttachGeometry(scene_, geom);
+      rtcReleaseGeometry(geom);  // the scene holds it
+      checkEmbree(device_, "adding the caster triangles");
+    }
+    rtcCommitScene(scene_);  // builds the BVH with TBB in the caller's arena
+    checkEmbree(device_, "rtcCommitScene");
+  } catch (...) {
+    if (scene_) rtcReleaseScene(scene_);
+    rtcReleaseDevice(device_);
+    throw;
+  }
+}
+
+RayScene::~RayScene() {
+  rtcReleaseScene(scene_);
+  rtcReleaseDevice(device_);
+}
+
+// ---- Tracing ------------------------------------------------------------------------------------
+
+uint64_t traceVisibility(const RayScene& scene, const ReceiverImage& receivers, const RectLight& light,
+                         SampleGrid grid, raster::ImageFloat& out, bool force1) {
+  const int w = receivers.width(), h = receivers.height();
+  out.resize(w, h);
+  const glm::vec3 c = light.center, ln = light.normal();
+  const int width = force1 ? 1 : scene.packetWidth();
+  const float inv = 1.0f / static_cast<float>(grid.count());
+  std::vector<uint64_t> rowRays(static_cast<size_t>(h), 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y) {
+      for (int x = 0; x < w; ++x) {
+        const Receiver& r = receivers.at(x, y);
+        float v = 1.0f;
+        if (r.valid) {
+          v = 0.0f;
+          if (glm::dot(r.position - c, ln) > 0.0f) {
+            const ReceiverRays rr(r, light);
+            const auto px = static_cast<uint32_t>(x), py = static_cast<uint32_t>(y);
+            int lit = 0;
+            switch (width) {
+              case 16:
+                lit = litPacket<16>(scene.handle(), rr, light, px, py, grid);
+                break;
+              case 8:
+                lit = litPacket<8>(scene.handle(), rr, light, px, py, grid);
+                break;
+              case 4:
+                lit = litPacket<4>(scene.handle(), rr, light, px, py, grid);
+                break;
+              default:
+                lit = litSingle(scene.handle(), rr, light, px, py, grid);
+                break;
+            }
+            v = static_cast<float>(lit) * inv;
+            rowRays[static_cast<size_t>(y)] += static_cast<uint64_t>(grid.count());
+          }
+        }
+        out.at(x, y) = v;
+      }
+    }
+  });
+  uint64_t rays = 0;
+  for (uint64_t n : rowRays) rays += n;
+  return rays;
+}
+
+// ---- Key and cache ------------------------------------------------------------------------------
+
+uint64_t groundTruthKey(const Geometry& casters, const ReceiverImage& receivers, const RectLight& light,
+                        int samples) {
+  Hasher h;
+  h.u32(kFormatVersion);
+  h.u32(static_cast<uint32_t>(samples));
+  h.vec3(light.center);
+  h.vec3(light.right);
+  h.vec3(light.up);
+  h.f32(light.width);
+  h.f32(light.height);
+  h.u32(static_cast<uint32_t>(receivers.width()));
+  h.u32(static_cast<uint32_t>(receivers.height()));
+  for (int y = 0; y < receivers.height(); ++y)
+    for (int x = 0; x < receivers.width(); ++x) {
+      const Receiver& r = receivers.at(x, y);
+      h.u32(r.valid ? 1u : 0u);
+      if (!r.valid) continue;
+      h.vec3(r.position);
+      h.vec3(r.normal);
+    }
+  const size_t tris = casters.triangles();
+  h.u32(static_cast<uint32_t>(tris));
+  h.u32(static_cast<uint32_t>(tris >> 32));
+  for (size_t i = 0; i < tris * 3; ++i) {
+    const uint32_t v = casters.indices[i];
+    h.u32(v);
+    h.vec3(v < casters.positions.size() ? casters.positions[v] : glm::vec3(NAN));
+  }
+  return h.finish();
+}
+
+std::filesystem::path groundTruthCachePath(const std::string& dir, uint64_t key) {
+  return std::filesystem::path(dir) / ("gt-" + hex16(key) + ".bin");
+}
+
+namespace {
+
+struct Header {
+  uint32_t version = 0, width = 0, height = 0, zero = 0;
+  uint64_t key = 0, payload = 0;
+};
+
+void encodeHeader(const Header& hd, char* out) {
+  std::memcpy(out, kMagic, 8);
+  std::memcpy(out + 8, &hd.version, 4);
+  std::memcpy(out + 12, &hd.width, 4);
+  std::memcpy(out + 16, &hd.height, 4);
+  std::memcpy(out + 20, &hd.zero, 4);
+  std::memcpy(out + 24, &hd.key, 8);
+  std::memcpy(out + 32, &hd.payload, 8);
+}
+
+}  // namespace
+
+bool readGroundTruthCache(const std::filesystem::path& file, uint64_t key, int width, int height,
+                          raster::ImageFloat& out) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) return false;
+  const uintmax_t size = std::filesystem::file_size(file, ec);
+  const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
+  if (ec || size != kHeaderBytes + n * sizeof(float)) return false;
+  std::ifstream in(file, std::ios::binary);
+  char head[kHeaderBytes];
+  if (!in.read(head, kHeaderBytes)) return false;
+  Header hd;
+  std::memcpy(&hd.version, head + 8, 4);
+  std::memcpy(&hd.width, head + 12, 4);
+  std::memcpy(&hd.height, head + 16, 4);
+  std::memcpy(&hd.zero, head + 20, 4);
+  std::memcpy(&hd.key, head + 24, 8);
+  std::memcpy(&hd.payload, head + 32, 8);
+  if (std::memcmp(head, kMagic, 8) != 0 || hd.version != kFormatVersion || hd.key != key || hd.zero != 0 ||
+      hd.width != static_cast<uint32_t>(width) || hd.height != static_cast<uint32_t>(height))
+    return false;
+  std::vector<float> values(n);
+  if (!in.read(reinterpret_cast<char*>(values.data()), static_cast<std::streamsize>(n * sizeof(float))))
+    return false;
+  if (payloadHash(values.data(), n) != hd.payload) return false;
+  out.resize(width, height);
+  for (int y = 0; y < height; ++y)
+    std::copy_n(values.data() + static_cast<size_t>(y) * static_cast<size_t>(width), width, out.row(y));
+  return true;
+}
+
+std::optional<std::string> writeGroundTruthCache(const std::filesystem::path& file, uint64_t key,
+                                                 const raster::ImageFloat& image) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path dir = file.parent_path();
+  if (!dir.empty()) {
+    fs::create_directories(dir, ec);
+    if (ec) return "cannot create directory " + dir.string() + ": " + ec.message();
+  }
+  const std::vector<float> values = image.packed();
+  const Header hd{.version = kFormatVersion,
+                  .width = static_cast<uint32_t>(image.width()),
+                  .height = static_cast<uint32_t>(image.height()),
+                  .zero = 0,
+                  .key = key,
+                  .payload = payloadHash(values.data(), values.size())};
+  char head[kHeaderBytes];
+  encodeHeader(hd, head);
+  // A name no other writer uses (several processes may fill the same cache), hidden from readers,
+  // which look for gt-<key>.bin only.
+  std::random_device rd;
+  const uint64_t tag = (uint64_t{rd()} << 32) ^ rd();
+  std::string tmpName = file.filename().string();
+  tmpName.insert(tmpName.begin(), '.');
+  tmpName += '.';
+  tmpName += hex16(tag);
+  tmpName += ".tmp";
+  const fs::path tmp = dir / tmpName;
+  {
+    std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
+    os.write(head, kHeaderBytes);
+    os.write(reinterpret_cast<const char*>(values.data()),
+             static_cast<std::streamsize>(values.size() * sizeof(float)));
+    os.close();
+    if (!os) {
+      fs::remove(tmp, ec);
+      return "cannot write " + tmp.string();
+    }
+  }
+  fs::rename(tmp, file, ec);  // atomic on POSIX within one file system
+  if (ec) {
+    const std::string why = "cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message();
+    fs::remove(tmp, ec);
+    return why;
+  }
+  return std::nullopt;
+}
+
+// ---- The whole computation ----------------------------------------------------------------------
+
+std::string GroundTruthStats::summary() const {
+  char buf[320];
+  std::string line;
+  std::snprintf(buf, sizeof buf, "reference: %dx%d = %d rays per receiver", grid.columns, grid.rows,
+                grid.count());
+  line = buf;
+  if (cacheHit) {
+    line += "; cache hit " + cacheFile.filename().string() + ", nothing traced";
+    return line;
+  }
+  const double mrays = msTrace > 0 ? static_cast<double>(rays) / (msTrace * 1e3) : 0.0;
+  std::snprintf(buf, sizeof buf,
+                ", %llu receivers, %llu rays against %zu triangles (packets of %d) in %.1f ms: %.2f Mrays/s",
+                static_cast<unsigned long long>(receivers), static_cast<unsigned long long>(rays), triangles,
+                packetWidth, msTrace, mrays);
+  line += buf;
+  if (dropped > 0) line += " (" + std::to_string(dropped) + " non-finite triangles left out)";
+  if (cacheFile.empty())
+    line += "; no cache";
+  else if (cacheWritten)
+    line += "; cache miss, wrote " + cacheFile.filename().string();
+  else
+    line += "; cache miss, not written: " + cacheError;
+  return line;
+}
+
+namespace {
+
+// The stages of one computation, shared by computeGroundTruth and the technique.
+class Job {
+ public:
+  // Key and cache lookup; on a miss, the scene. In the caller's arena.
+  void prepare(const Geometry& casters, const ReceiverImage& receivers, const RectLight& light, int samples,
+               const std::string& cacheDir) {
+    const auto t0 = Clock::now();
+    receivers_ = &receivers;
+    light_ = light;
+    stats.grid = sampleGrid(light, samples);
+    if (!cacheDir.empty()) {
+      stats.key = groundTruthKey(casters, receivers, light, samples);
+      stats.cacheFile = groundTruthCachePath(cacheDir, stats.key);
+      stats.cacheHit =
+          readGroundTruthCache(stats.cacheFile, stats.key, receivers.width(), receivers.height(), cached_);
+    }
+    if (!stats.cacheHit) {
+      scene_ = std::make_unique<RayScene>(casters);
+      stats.packetWidth = scene_->packetWidth();
+      stats.triangles = scene_->triangles();
+      stats.dropped = scene_->dropped();
+    }
+    stats.msPrepare = msSince(t0);
+  }
+  // Traces (or hands over the cached image) and writes the cache. In the caller's arena.
+  void evaluate(raster::ImageFloat& out) {
+    const auto t0 = Clock::now();
+    if (stats.cacheHit) {
+      out = std::move(cached_);
+      stats.msTrace = msSince(t0);
+      return;
+    }
+    stats.rays = traceVisibility(*scene_, *receivers_, light_, stats.grid, out);
+    stats.receivers = stats.rays / static_cast<uint64_t>(stats.grid.count());
+    stats.msTrace = msSince(t0);
+    scene_.reset();
+    if (!stats.cacheFile.empty()) {
+      const std::optional<std::string> err = writeGroundTruthCache(stats.cacheFile, stats.key, out);
+      stats.cacheWritten = !err;
+      if (err) stats.cacheError = *err;
+    }
+  }
+
+  GroundTruthStats stats;
+
+ private:
+  const ReceiverImage* receivers_ = nullptr;
+  RectLight light_;
+  std::unique_ptr<RayScene> scene_;
+  raster::ImageFloat cached_;
+};
+
+class Reference final : public Technique {
+ public:
+  void prepare(ShadowContext& ctx, const ParamSet& params) override {
+    const auto t0 = Clock::now();
+    const int samples = params.integer("samples");
+    ctx.raster.run([&] {
+      job_.prepare(ctx.casterGeometry(), *ctx.in.receivers, ctx.in.light, samples, ctx.in.cacheDir);
+    });
+    ctx.times.msMaps += msSince(t0);
+    if (job_.stats.grid.count() != samples)
+      ctx.notes.push_back("reference: samples=" + std::to_string(samples) + " rounded up to a " +
+                          std::to_string(job_.stats.grid.columns) + "x" +
+                          std::to_string(job_.stats.grid.rows) + " grid on the light");
+  }
+  void evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) override {
+    const auto t0 = Clock::now();
+    ctx.raster.run([&] { job_.evaluate(visibility); });
+    ctx.times.msEvaluate += msSince(t0);
+    ctx.notes.push_back(job_.stats.summary());
+  }
+
+ private:
+  Job job_;
+};
+
+}  // namespace
+
+GroundTruthStats computeGroundTruth(const Geometry& casters, const ReceiverImage& receivers,
+                                    const RectLight& light, const GroundTruthOptions& options,
+                                    raster::ImageFloat& out) {
+  Job job;
+  job.prepare(casters, receivers, light, options.samples, options.cacheDir);
+  job.evaluate(out);
+  return job.stats;
+}
+
+TechniqueInfo referenceTechnique() {
+  return {
+      .name = "reference",
+      .summary = "ray-traced ground truth: Embree occlusion rays to a stratified jittered grid on the light",
+      .params = {{.name = "samples",
+                  .kind = ParamKind::Int,
+                  .defaultValue = 1024,
+                  .minValue = 1,
+                  .maxValue = kMaxSamples,
+                  .choices = {},
+                  .help = "rays per receiver; the grid on the light is columns x rows = ceil to a whole grid "
+                          "(1024 on a square light: 32x32)"}},
+      .benchSettings = {""},
+      .isReference = true,
+      .make = [] { return std::make_unique<Reference>(); }};
+}
+
+}  // namespace penumbra::shadows

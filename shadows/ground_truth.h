@@ -1,0 +1,158 @@
+// The ray-traced ground truth for area-light visibility (DESIGN.md, "Shadows"), registered as the
+// technique "reference". For every receiver x (area_light.h)
+//     V(x) = (1/A) * integral over the light of v(x, y) dA_y,
+// the plain (not cosine-weighted) visible fraction of the light's area, is estimated with Embree 3
+// occlusion rays from x to the points of a stratified jittered grid on the light.
+//
+// Sampling: light uv (s, t) in [0,1]^2 (area_light.h) is cut into `columns` x `rows` cells of
+// (nearly) square shape on the light (sampleGrid); cell (i, j) holds one point, jittered uniformly
+// inside it by hash3(pixel x, pixel y, 2 * sample + dimension) (sampling.h), sample = j * columns + i.
+// Random numbers depend on the pixel and the sample only, so the image is the same at every thread
+// count and in every run. V = (unoccluded rays) / (columns * rows). Background texels get 1,
+// receivers on or behind the light plane (dot(x - center, normal) <= 0) get 0, as forEachReceiver.
+//
+// Rays: the segment x -> y is open at x: the receiver's own surface never shadows it, whichever way
+// its normal points. The origin is moved off the surface by eps along the normal, to the side the
+// ray leaves towards (pbrt-v4's OffsetRayOrigin), and the ray starts at distance eps from there:
+//     eps = 1e-4 * |x - light.center| + 4e-6 * max_i |x_i|
+// (the second term is about 32 float ulps of x, for scenes far from the origin). The ray stops at
+// t = 1 - 1e-4 with direction y - origin, short of the light itself, so geometry lying in the light
+// plane (a lamp's frame) does not block it. A segment is blocked when any caster triangle meets it
+// (either face; Embree's robust traversal, so the answer does not depend on the BVH's shape).
+//
+// Estimator error: where v depends on s only (a straight shadow edge parallel to the light's up
+// axis), only the column holding the edge is random: the standard deviation is at most
+// 0.5 / (columns * sqrt(rows)), 0.5 * N^(-3/4) for N samples on a square light, and the RMSE over
+// a penumbra ramp is sqrt(1/6) * N^(-3/4) = 0.41 * N^(-3/4) (tests/shadows/ground_truth_test.cpp
+// measures 0.404 to 0.422 for N = 16 to 4096 against the analytic penumbra).
+//
+// Cache (ShadowInputs::cacheDir): the image is stored in <cacheDir>/gt-<16 hex digits of the key>.bin.
+// The key (groundTruthKey) hashes everything the image depends on; a file is used only when its
+// magic, version, key, size and payload hash all match, and is written to a temporary file in the
+// same directory and renamed into place, so a reader never sees a half-written file. A cache that
+// cannot be written is skipped (and said so in the notes), never an error.
+//
+// Thread-safety: RayScene is immutable after construction; traceVisibility may be called on one
+// scene from several threads. The other functions are pure (the cache functions touch only their
+// own files).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "raster/image.h"
+#include "shadows/technique.h"
+
+// Embree's handles, declared as Embree declares them (rtcore_device.h, rtcore_scene.h), so that this
+// header does not pull Embree into every user.
+struct RTCDeviceTy;
+struct RTCSceneTy;
+
+namespace penumbra::shadows {
+
+struct GroundTruthOptions {
+  int samples = 1024;    // rays per receiver, [1, 65536]; the grid may round it up (sampleGrid)
+  std::string cacheDir;  // "" = no disk cache
+};
+
+// The stratified grid for `samples` rays on `light`: columns along the width, rows along the
+// height, cells as close to square on the light as whole numbers allow:
+//     columns = clamp(round(sqrt(samples * width / height)), 1, samples), rows = ceil(samples / columns).
+// count() >= samples; equal when samples is a perfect square and the light is square (1024 on a
+// square light: 32 x 32). Throws std::invalid_argument when samples is outside [1, 65536].
+struct SampleGrid {
+  int columns = 1, rows = 1;
+  int count() const { return columns * rows; }
+};
+SampleGrid sampleGrid(const RectLight& light, int samples);
+
+// The casters as an Embree scene (its own device), built at construction with
+// RTC_BUILD_QUALITY_HIGH and robust traversal. The build runs Embree's TBB loops in the caller's
+// arena (call it inside Rasterizer::run). Referenced vertices are copied, so `casters` need not
+// outlive it; triangles with a non-finite vertex are left out (counted). Throws
+// std::invalid_argument for an index out of range and std::runtime_error naming the Embree error
+// when Embree fails.
+class RayScene {
+ public:
+  explicit RayScene(const Geometry& casters);
+  ~RayScene();
+  RayScene(const RayScene&) = delete;
+  RayScene& operator=(const RayScene&) = delete;
+
+  size_t triangles() const { return triangles_; }  // kept
+  size_t dropped() const { return dropped_; }      // triangles with a non-finite vertex, left out
+  // Rays per Embree call in traceVisibility: the widest packet Embree runs natively on this CPU
+  // (16, 8 or 4: rtcOccluded16/8/4, every ray of a packet from one receiver), else 1 (rtcOccluded1).
+  int packetWidth() const { return packetWidth_; }
+  RTCSceneTy* handle() const { return scene_; }
+
+ private:
+  RTCDeviceTy* device_ = nullptr;
+  RTCSceneTy* scene_ = nullptr;
+  size_t triangles_ = 0, dropped_ = 0;
+  int packetWidth_ = 1;
+};
+
+// Fills `out` (resized to the receivers' size) with V for every receiver, rows in parallel with
+// tbb::parallel_for in the caller's arena (call it inside Rasterizer::run to use the rasterizer's
+// threads). Returns the number of rays traced. force1: trace with rtcOccluded1 even where packets
+// are supported (the tests compare the two paths).
+uint64_t traceVisibility(const RayScene& scene, const ReceiverImage& receivers, const RectLight& light,
+                         SampleGrid grid, raster::ImageFloat& out, bool force1 = false);
+
+// A 64-bit hash of everything the ground truth image depends on: a format version, the three
+// corners of every caster triangle in order (positions the indices reference, and the indices),
+// the receivers' size and for each texel its valid flag and, when valid, its position and normal,
+// the light's geometry (center, right, up, width, height: not its color or intensity, which V does
+// not depend on) and the sample count. A chain of splitmix64 finalizers over 64-bit words (float
+// bits, so -0 and +0 differ): deterministic, not cryptographic.
+uint64_t groundTruthKey(const Geometry& casters, const ReceiverImage& receivers, const RectLight& light,
+                        int samples);
+
+// <dir>/gt-<key as 16 lower-case hex digits>.bin
+std::filesystem::path groundTruthCachePath(const std::string& dir, uint64_t key);
+
+// File layout (native byte order, x86-64: little-endian): a 40-byte header
+//     char magic[8] = "PNBRGT\r\n", uint32 version, uint32 width, uint32 height, uint32 zero,
+//     uint64 key, uint64 payload hash,
+// then width * height float32 values, row-major, top row first. Reading returns false (and
+// leaves `out` alone) when the file is missing, short, long, or any field differs.
+bool readGroundTruthCache(const std::filesystem::path& file, uint64_t key, int width, int height,
+                          raster::ImageFloat& out);
+// Writes atomically (temporary file in the same directory, then rename), creating the directory.
+// Returns why it could not (nothing is left behind then), or nothing.
+std::optional<std::string> writeGroundTruthCache(const std::filesystem::path& file, uint64_t key,
+                                                 const raster::ImageFloat& image);
+
+// What computeGroundTruth did.
+struct GroundTruthStats {
+  SampleGrid grid;
+  int packetWidth = 0;              // RayScene::packetWidth (0: no scene built, the cache held the image)
+  size_t triangles = 0;             // casters traced against (0 on a cache hit)
+  size_t dropped = 0;               // casters left out: a non-finite vertex
+  uint64_t receivers = 0;           // receivers traced (valid, in front of the light)
+  uint64_t rays = 0;                // rays traced (0 on a cache hit)
+  uint64_t key = 0;                 // 0 when no cache directory was given
+  std::filesystem::path cacheFile;  // "" when no cache directory was given
+  bool cacheHit = false, cacheWritten = false;
+  std::string cacheError;  // why the cache was not written, or ""
+  double msPrepare = 0;    // key, cache lookup, scene build
+  double msTrace = 0;      // tracing, cache write
+  // One line for ShadowContext::notes: grid, rays, Mrays/s, what the cache did.
+  std::string summary() const;
+};
+
+// The whole ground truth for one light in the caller's arena: cache lookup, scene build, tracing,
+// cache write.
+GroundTruthStats computeGroundTruth(const Geometry& casters, const ReceiverImage& receivers,
+                                    const RectLight& light, const GroundTruthOptions& options,
+                                    raster::ImageFloat& out);
+
+// "reference": parameter "samples" (Int, default 1024, [1, 65536]; see sampleGrid). Traces the
+// culled casters (ShadowContext::casterGeometry); prepare builds the scene (msMaps) unless the
+// cache holds the image, evaluate traces (msEvaluate). Not benchmarked (isReference).
+TechniqueInfo referenceTechnique();
+
+}  // namespace penumbra::shadows

@@ -1,0 +1,192 @@
+#include "shadows/light_view.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <limits>
+
+namespace penumbra::shadows {
+
+namespace {
+
+struct Scan {
+  size_t front = 0, behind = 0;
+  glm::vec3 lo{std::numeric_limits<float>::max()}, hi{-std::numeric_limits<float>::max()};
+};
+
+}  // namespace
+
+LightRegion fitRegion(const RectLight& light, const ReceiverImage& receivers) {
+  // Min/max and counts are order-independent, so the parallel reduction is deterministic.
+  const Scan s = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, receivers.height(), 8), Scan{},
+      [&](const tbb::blocked_range<int>& rows, Scan acc) {
+        for (int y = rows.begin(); y != rows.end(); ++y)
+          for (int x = 0; x < receivers.width(); ++x) {
+            const Receiver& r = receivers.at(x, y);
+            if (!r.valid) continue;
+            const glm::vec3 p = toLightSpace(light, r.position);
+            if (!(p.z > 0.0f)) {
+              ++acc.behind;
+              continue;
+            }
+            ++acc.front;
+            acc.lo = glm::min(acc.lo, p);
+            acc.hi = glm::max(acc.hi, p);
+          }
+        return acc;
+      },
+      [](Scan a, const Scan& b) {
+        a.front += b.front;
+        a.behind += b.behind;
+        a.lo = glm::min(a.lo, b.lo);
+        a.hi = glm::max(a.hi, b.hi);
+        return a;
+      });
+  LightRegion r;
+  r.receivers = s.front;
+  r.receiversBehind = s.behind;
+  if (s.front == 0) return r;
+  r.empty = false;
+  r.lo = s.lo;
+  r.hi = s.hi;
+  // Tightest side planes through the light's edges that contain every corner of the receiver box.
+  const float hw = 0.5f * light.width, hh = 0.5f * light.height;
+  r.sxLo = r.syLo = std::numeric_limits<float>::max();
+  r.sxHi = r.syHi = -std::numeric_limits<float>::max();
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec3 p((c & 1) ? s.hi.x : s.lo.x, (c & 2) ? s.hi.y : s.lo.y, (c & 4) ? s.hi.z : s.lo.z);
+    r.sxHi = std::max(r.sxHi, (p.x - hw) / p.z);
+    r.sxLo = std::min(r.sxLo, (p.x + hw) / p.z);
+    r.syHi = std::max(r.syHi, (p.y - hh) / p.z);
+    r.syLo = std::min(r.syLo, (p.y + hh) / p.z);
+  }
+  return r;
+}
+
+namespace {
+
+// Bit k set: light-space point p is outside bounding plane k of the region.
+unsigned outsideMask(const LightRegion& r, float hw, float hh, glm::vec3 p) {
+  unsigned m = 0;
+  if (p.z <= 0.0f) m |= 1u;
+  if (p.z > r.hi.z) m |= 2u;
+  if (p.x > hw + p.z * r.sxHi) m |= 4u;
+  if (p.x < -hw + p.z * r.sxLo) m |= 8u;
+  if (p.y > hh + p.z * r.syHi) m |= 16u;
+  if (p.y < -hh + p.z * r.syLo) m |= 32u;
+  return m;
+}
+
+}  // namespace
+
+bool LightRegion::mayShadow(const RectLight& light, const glm::vec3 worldCorners[8]) const {
+  if (empty) return false;
+  unsigned all = ~0u;
+  for (int c = 0; c < 8; ++c) all &= outsideMask(*this, 0.5f * light.width, 0.5f * light.height, toLightSpace(light, worldCorners[c]));
+  return all == 0;
+}
+
+CasterSet cullCasters(const RectLight& light, const LightRegion& region, const Geometry& geometry) {
+  CasterSet out;
+  out.trianglesIn = geometry.triangles();
+  out.minDepth = std::numeric_limits<float>::max();
+  if (region.empty) {
+    out.trianglesCulled = out.trianglesIn;
+    return out;
+  }
+  const float hw = 0.5f * light.width, hh = 0.5f * light.height;
+  // A triangle whose plane has the whole light strictly on one side and every receiver (the
+  // corners of their box) on that side or on the plane cannot block any receiver-light segment
+  // (a ground plane under everything the camera sees): culled too. eps: 1e-5 of the scene's size.
+  glm::vec3 lightCorners[4] = {{-hw, -hh, 0}, {hw, -hh, 0}, {hw, hh, 0}, {-hw, hh, 0}};
+  glm::vec3 recCorners[8];
+  for (int c = 0; c < 8; ++c)
+    recCorners[c] = {(c & 1) ? region.hi.x : region.lo.x, (c & 2) ? region.hi.y : region.lo.y,
+                     (c & 4) ? region.hi.z : region.lo.z};
+  const float eps = 1e-5f * std::max({region.hi.x - region.lo.x, region.hi.y - region.lo.y, region.hi.z - region.lo.z,
+                                      light.width, light.height});
+  auto cannotBlock = [&](const glm::vec3 p[3]) {
+    const glm::vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
+    const float len = glm::length(n);
+    if (!(len > 0.0f)) return false;
+    const glm::vec3 u = n / len;
+    const float s = glm::dot(u, lightCorners[0] - p[0]);
+    const float sign = s > 0.0f ? 1.0f : -1.0f;
+    for (const glm::vec3& q : lightCorners)
+      if (!(sign * glm::dot(u, q - p[0]) > eps)) return false;
+    for (const glm::vec3& q : recCorners)
+      if (!(sign * glm::dot(u, q - p[0]) >= -eps)) return false;
+    return true;
+  };
+  // Sequential: the kept list must keep submission order, and this is a few ns per triangle.
+  out.indices.reserve(geometry.indices.size());
+  for (size_t t = 0; t < out.trianglesIn; ++t) {
+    const uint32_t* tri = &geometry.indices[t * 3];
+    glm::vec3 p[3];
+    bool finite = true;
+    for (int k = 0; k < 3; ++k) {
+      p[k] = toLightSpace(light, geometry.positions[tri[k]]);
+      finite = finite && std::isfinite(p[k].x) && std::isfinite(p[k].y) && std::isfinite(p[k].z);
+    }
+    if (!finite || (outsideMask(region, hw, hh, p[0]) & outsideMask(region, hw, hh, p[1]) & outsideMask(region, hw, hh, p[2])) ||
+        cannotBlock(p)) {
+      ++out.trianglesCulled;
+      continue;
+    }
+    out.indices.insert(out.indices.end(), tri, tri + 3);
+    for (const glm::vec3& q : p)
+      if (q.z > 0.0f) out.minDepth = std::min(out.minDepth, q.z);
+  }
+  if (out.indices.empty()) out.minDepth = 0.0f;
+  return out;
+}
+
+LightView makeLightView(const RectLight& light, const LightRegion& region, glm::vec2 lightPoint, float znear,
+                        int width, int height) {
+  LightView v;
+  v.right = light.right;
+  v.up = light.up;
+  v.axis = light.normal();
+  v.origin = light.center + lightPoint.x * light.right + lightPoint.y * light.up;
+  v.znear = znear;
+  v.width = width;
+  v.height = height;
+  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec3 p((c & 1) ? region.hi.x : region.lo.x, (c & 2) ? region.hi.y : region.lo.y,
+                      (c & 4) ? region.hi.z : region.lo.z);
+    const glm::vec2 t((p.x - lightPoint.x) / p.z, (p.y - lightPoint.y) / p.z);
+    lo = glm::min(lo, t);
+    hi = glm::max(hi, t);
+  }
+  lo = glm::clamp(lo, glm::vec2(-kMaxTan), glm::vec2(kMaxTan));
+  hi = glm::clamp(hi, glm::vec2(-kMaxTan), glm::vec2(kMaxTan));
+  // Half a texel of margin on each side so receivers on the box's faces map inside the image, and
+  // never an empty extent.
+  const glm::vec2 ext = glm::max(hi - lo, glm::vec2(1e-6f));
+  const glm::vec2 margin(ext.x / static_cast<float>(width), ext.y / static_cast<float>(height));
+  v.tanLo = lo - margin;
+  v.tanHi = hi + margin;
+  // Clip: X = (2 (x - tanLo.x d) / ext - d), Y likewise, Z = near, W = d; x, y, d in view space.
+  const glm::vec2 e = v.tanHi - v.tanLo;
+  glm::mat4 toView(1.0f);  // world -> view (x, y, d, 1)
+  for (int i = 0; i < 3; ++i) {
+    toView[i][0] = v.right[i];
+    toView[i][1] = v.up[i];
+    toView[i][2] = v.axis[i];
+  }
+  toView[3] = glm::vec4(-glm::dot(v.right, v.origin), -glm::dot(v.up, v.origin), -glm::dot(v.axis, v.origin), 1.0f);
+  glm::mat4 proj(0.0f);  // column-major: proj[col][row]
+  proj[0][0] = 2.0f / e.x;
+  proj[2][0] = -(2.0f * v.tanLo.x / e.x + 1.0f);
+  proj[1][1] = 2.0f / e.y;
+  proj[2][1] = -(2.0f * v.tanLo.y / e.y + 1.0f);
+  proj[3][2] = znear;
+  proj[2][3] = 1.0f;
+  v.viewProj = proj * toView;
+  return v;
+}
+
+}  // namespace penumbra::shadows

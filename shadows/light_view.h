@@ -1,0 +1,113 @@
+// What a light must cover and the views the techniques render from it.
+//
+// LightRegion (DESIGN.md: "shadow maps fitted to the receivers the camera sees; a light whose
+// frustum holds no caster that can reach a visible receiver: no shadow maps"): from the G-buffer's
+// receivers in front of the light, the convex region through which light can reach them, bounded by
+// the light plane, the farthest receiver depth and four planes through the light's edges that
+// enclose every receiver. A triangle outside it cannot shadow any visible receiver; it is culled
+// before any pass (and whole instances are culled by their bounding boxes before flattening).
+//
+// LightView: a perspective view from a point on the light looking along the light normal (every
+// view of a light has the same axes, so maps from several light points are parallel), its
+// off-axis frustum fitted to the receivers' bounding box, limited to |tan| <= kMaxTan on each side
+// (receivers outside, within ~84 degrees of the light plane, are treated as lit and counted).
+// Depth is reversed and infinite: clip z = near, w = depth along the axis, so the stored value
+// z/w = near / depth (1 at the near plane, towards 0 far away, DepthFunc::Greater, cleared to 0 =
+// nothing there): float keeps a uniform relative precision at every distance.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <span>
+#include <vector>
+
+#include "raster/image.h"
+#include "shadows/area_light.h"
+
+namespace penumbra::shadows {
+
+// One G-buffer texel as the shadow techniques see it.
+struct Receiver {
+  glm::vec3 position{0.0f};  // world space
+  glm::vec3 normal{0.0f};    // unit, facing the viewer
+  uint32_t valid = 0;        // 0: background, nothing to shade
+};
+using ReceiverImage = raster::Image<Receiver>;
+
+// World-space triangles: indices (3 per triangle) into positions.
+struct Geometry {
+  std::span<const glm::vec3> positions;
+  std::span<const uint32_t> indices;
+  size_t triangles() const { return indices.size() / 3; }
+};
+
+inline constexpr float kMaxTan = 10.0f;
+
+// Light-space coordinates: (x, y) along the light's right and up from its centre, d along the normal.
+inline glm::vec3 toLightSpace(const RectLight& light, glm::vec3 p) {
+  const glm::vec3 r = p - light.center;
+  return {glm::dot(r, light.right), glm::dot(r, light.up), glm::dot(r, light.normal())};
+}
+
+struct LightRegion {
+  bool empty = true;               // no receiver in front of the light
+  size_t receivers = 0;            // valid receivers in front of the light
+  size_t receiversBehind = 0;      // valid receivers behind the light plane (unlit)
+  glm::vec3 lo{0.0f}, hi{0.0f};    // light-space bounding box of the receivers in front (d > 0)
+  // Side planes: x <= w/2 + d * sxHi, x >= -w/2 + d * sxLo (and y likewise); 0 < d <= hi.z.
+  float sxLo = 0, sxHi = 0, syLo = 0, syHi = 0;
+
+  // Could anything in the light-space box [lo, hi] (world box given by 8 corners) shadow a
+  // receiver? Conservative: false only when every corner is outside one bounding plane.
+  bool mayShadow(const RectLight& light, const glm::vec3 worldCorners[8]) const;
+};
+
+// Scans the receivers (tile-parallel in the caller's arena; deterministic).
+LightRegion fitRegion(const RectLight& light, const ReceiverImage& receivers);
+
+// Triangles of `geometry` that may shadow a receiver (their index triples, in order): those with a
+// vertex inside the region, less those whose plane has the light strictly on one side and every
+// receiver on that side (a ground under the scene cannot shadow what stands on it); and the
+// smallest light-space depth of a vertex of a kept triangle (clamped to > 0), for the near plane.
+struct CasterSet {
+  std::vector<uint32_t> indices;
+  size_t trianglesIn = 0, trianglesCulled = 0;
+  float minDepth = 0.0f;
+};
+CasterSet cullCasters(const RectLight& light, const LightRegion& region, const Geometry& geometry);
+
+struct LightView {
+  glm::vec3 origin{0.0f};           // world position (a point on the light)
+  glm::vec3 right{1, 0, 0}, up{0, 0, 1}, axis{0, -1, 0};  // the light's frame; axis = normal
+  glm::vec2 tanLo{-1.0f}, tanHi{1.0f};  // frustum extent at unit depth: x/d and y/d ranges
+  float znear = 0.01f;
+  int width = 0, height = 0;        // map resolution
+  glm::mat4 viewProj{1.0f};         // world -> clip (reversed infinite depth, see above)
+
+  // View-space (x, y, depth) of a world point.
+  glm::vec3 toView(glm::vec3 p) const {
+    const glm::vec3 r = p - origin;
+    return {glm::dot(r, right), glm::dot(r, up), glm::dot(r, axis)};
+  }
+  // Continuous map coordinates of a view-space point (pixel (i, j) centre at (i + 0.5, j + 0.5)).
+  glm::vec2 toMap(glm::vec3 v) const {
+    const float tx = v.x / v.z, ty = v.y / v.z;
+    return {(tx - tanLo.x) / (tanHi.x - tanLo.x) * static_cast<float>(width),
+            (tanHi.y - ty) / (tanHi.y - tanLo.y) * static_cast<float>(height)};
+  }
+  // World size of one texel (x extent) at view depth d.
+  float texelWorld(float d) const { return d * (tanHi.x - tanLo.x) / static_cast<float>(width); }
+  // Depth along the axis of a stored map value (0 = nothing: +inf).
+  float depthOf(float stored) const { return stored > 0.0f ? znear / stored : INFINITY; }
+};
+
+// The view from the light-space point (lightPoint.x, lightPoint.y, 0) (world units from the
+// light centre along right and up) on the light, fitted to the region's receivers,
+// width x height texels. Its near plane is `znear` (> 0).
+LightView makeLightView(const RectLight& light, const LightRegion& region, glm::vec2 lightPoint, float znear,
+                        int width, int height);
+
+}  // namespace penumbra::shadows

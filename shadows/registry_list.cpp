@@ -1,0 +1,19 @@
+#include "shadows/registry_list.h"
+
+#include "shadows/esm.h"
+#include "shadows/evsm.h"
+#include "shadows/ground_truth.h"
+#include "shadows/hard.h"
+#include "shadows/mvr.h"
+#include "shadows/pcf.h"
+#include "shadows/pcss.h"
+#include "shadows/vsm.h"
+
+namespace penumbra::shadows {
+
+std::vector<TechniqueInfo> allTechniques() {
+  return {hardTechnique(), pcfTechnique(), pcssTechnique(), vsmTechnique(), evsm2Technique(), evsm4Technique(),
+          esmTechnique(), mvrTechnique(), referenceTechnique()};
+}
+
+}  // namespace penumbra::shadows

@@ -1,0 +1,107 @@
+#include "shadows/shadow_map.h"
+
+#include <cmath>
+
+namespace penumbra::shadows {
+
+void renderDepthMap(ShadowContext& ctx, ShadowMap& map) {
+  map.depth.resize(map.view.width, map.view.height, 0.0f);
+  ctx.raster.clear(map.depth, 0.0f);
+  const glm::vec3* pos = ctx.in.casters.positions.data();
+  raster::DrawDesc desc;
+  desc.vertexCount = static_cast<uint32_t>(ctx.in.casters.positions.size());
+  desc.indices = ctx.casters.indices;
+  desc.cull = raster::CullMode::None;
+  desc.depthFunc = raster::DepthFunc::Greater;
+  const glm::mat4 m = map.view.viewProj;
+  ctx.mapPasses += ctx.raster.drawDepth(desc, map.depth, [&](uint32_t i) { return m * glm::vec4(pos[i], 1.0f); });
+  map.prepareLookup();
+}
+
+void ShadowMap::prepareLookup() {
+  data_ = &depth.image().at(0, 0);
+  stride_ = static_cast<size_t>(depth.image().stride());
+  // column = (tanX - tanLo.x) / (tanHi.x - tanLo.x) * width; row = (tanHi.y - tanY) / (...) * height.
+  ax_ = static_cast<float>(view.width) / (view.tanHi.x - view.tanLo.x);
+  bx_ = -view.tanLo.x * ax_;
+  ay_ = -static_cast<float>(view.height) / (view.tanHi.y - view.tanLo.y);
+  by_ = -view.tanHi.y * ay_;
+  maxX_ = static_cast<float>(view.width - 1);
+  maxY_ = static_cast<float>(view.height - 1);
+}
+
+std::vector<ParamSpec> depthMapParams(int defaultSize, double defaultBias, double defaultSlope) {
+  return {
+      {.name = "map_size", .kind = ParamKind::Int, .defaultValue = static_cast<double>(defaultSize), .minValue = 16,
+       .maxValue = 8192, .choices = {}, .help = "shadow map width and height, texels"},
+      {.name = "bias", .kind = ParamKind::Float, .defaultValue = defaultBias, .minValue = 0, .maxValue = 64,
+       .choices = {}, .help = "constant depth bias, in texel footprints at the receiver"},
+      {.name = "slope_bias", .kind = ParamKind::Float, .defaultValue = defaultSlope, .minValue = 0, .maxValue = 64,
+       .choices = {}, .help = "depth bias per unit tan(angle between normal and light ray), in texel footprints"},
+  };
+}
+
+BiasParams biasParams(const ParamSet& params) {
+  return {static_cast<float>(params.number("bias")), static_cast<float>(params.number("slope_bias"))};
+}
+
+namespace {
+
+// Bias in world units per unit depth: texelWorld(d) / d * (constant + slope * tan(theta)).
+float biasPerDepth(const LightView& view, glm::vec3 v, glm::vec3 nv, BiasParams b) {
+  const float c = std::abs(glm::dot(nv, v)) / std::max(glm::length(v), 1e-30f);
+  const float tanTheta = std::min(std::sqrt(std::max(1.0f - c * c, 0.0f)) / std::max(c, 1e-6f), 10.0f);
+  return view.texelWorld(1.0f) * (b.constant + b.slope * tanTheta);
+}
+
+glm::vec3 toViewDir(const LightView& view, glm::vec3 n) {
+  return {glm::dot(n, view.right), glm::dot(n, view.up), glm::dot(n, view.axis)};
+}
+
+}  // namespace
+
+BoxTest testBox(const ShadowMap& map, const raster::MinMaxPyramid& pyramid, const ReceiverPlane& plane, float x0,
+                float y0, float x1, float y1) {
+  // One texel of slack on each side for taps rounded just outside the box. Rows grow downwards
+  // as tangent y decreases.
+  const int c0 = map.column(x0) - 1, c1 = map.column(x1) + 2;
+  const int r0 = map.row(y1) - 1, r1 = map.row(y0) + 2;
+  float mn, mx;
+  queryMinMax(pyramid, c0, r0, c1, r1, mn, mx);
+  const float t00 = plane.threshold(x0, y0), t01 = plane.threshold(x0, y1), t10 = plane.threshold(x1, y0),
+              t11 = plane.threshold(x1, y1);
+  const float tMin = std::min(std::min(t00, t01), std::min(t10, t11));
+  const float tMax = std::max(std::max(t00, t01), std::max(t10, t11));
+  if (mx <= tMin * (1.0f - 1e-5f)) return BoxTest::AllLit;
+  if (mn > tMax * (1.0f + 1e-5f)) return BoxTest::AllBlocked;
+  return BoxTest::Mixed;
+}
+
+ParamSpec minMaxParam() {
+  return {.name = "minmax", .kind = ParamKind::Choice, .defaultValue = 1, .minValue = 0, .maxValue = 1,
+          .choices = {"off", "on"},
+          .help = "skip the taps of receivers whose kernel is uniformly lit or blocked (min/max pyramid); same image"};
+}
+
+float biasedDepth(const LightView& view, glm::vec3 v, glm::vec3 n, BiasParams b) {
+  return v.z - v.z * biasPerDepth(view, v, toViewDir(view, n), b);
+}
+
+ReceiverPlane::ReceiverPlane(const LightView& view, glm::vec3 v, glm::vec3 n, BiasParams b) {
+  glm::vec3 nv = toViewDir(view, n);
+  // Orient the normal so that k = dot(nv, v) > 0: rays meeting the plane in front have 1/d > 0.
+  if (glm::dot(nv, v) < 0.0f) nv = -nv;
+  const float k = std::max(glm::dot(nv, v), 1e-30f);
+  a_ = nv.x / k;
+  b_ = nv.y / k;
+  c_ = nv.z / k;
+  lo_ = 0.5f / v.z;
+  hi_ = 2.0f / v.z;
+  const float beta = biasPerDepth(view, v, nv, b);
+  scale_ = beta < 1.0f ? view.znear / (1.0f - beta) : INFINITY;
+  tx_ = v.x / v.z;
+  ty_ = v.y / v.z;
+  d_ = v.z;
+}
+
+}  // namespace penumbra::shadows

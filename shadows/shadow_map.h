@@ -1,0 +1,118 @@
+// Shared building blocks of the depth-map techniques (hard, PCF, PCSS, MVR): a depth map rendered
+// from a LightView with the pipeline's depth-only pass, texel lookup, and the depth comparison with
+// slope-scaled bias (Filament's surface_shadowing: the techniques share these and stay thin).
+//
+// Depth maps store near / depth (light_view.h): reversed, 0 = nothing drawn.
+// Bias: a receiver at view depth d whose normal makes angle theta with the ray from the view origin
+// spans about texelWorld(d) * tan(theta) of depth inside one texel, so it is compared as
+//     lit  <=>  occluderDepth >= d - texelWorld(d) * (bias + slope_bias * min(tan(theta), 10)).
+#pragma once
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "raster/depth_target.h"
+#include "raster/kernels.h"
+#include "shadows/technique.h"
+
+namespace penumbra::shadows {
+
+struct ShadowMap {
+  LightView view;
+  raster::DepthTarget depth;
+
+  // Call after rendering (renderDepthMap does): caches the lookup constants.
+  void prepareLookup();
+  // The stored value (near / depth; 0 = nothing) of the texel holding tangent-space point
+  // (tanX, tanY) = (x/d, y/d), clamped to the map's edge.
+  float stored(float tanX, float tanY) const {
+    const float fx = std::min(maxX_, std::max(0.0f, ax_ * tanX + bx_));
+    const float fy = std::min(maxY_, std::max(0.0f, ay_ * tanY + by_));
+    return data_[static_cast<size_t>(fy) * stride_ + static_cast<size_t>(fx)];
+  }
+  // Depth along the axis of the nearest caster at that texel, +inf where nothing was drawn.
+  float occluder(float tanX, float tanY) const { return view.depthOf(stored(tanX, tanY)); }
+  // The column / row that stored() reads for a tangent coordinate.
+  int column(float tanX) const { return static_cast<int>(std::min(maxX_, std::max(0.0f, ax_ * tanX + bx_))); }
+  int row(float tanY) const { return static_cast<int>(std::min(maxY_, std::max(0.0f, ay_ * tanY + by_))); }
+
+ private:
+  const float* data_ = nullptr;
+  size_t stride_ = 0;
+  float ax_ = 0, bx_ = 0, ay_ = 0, by_ = 0, maxX_ = 0, maxY_ = 0;
+};
+
+// Renders the context's kept casters into map.depth from map.view (a depth-only pass, no culling,
+// DepthFunc::Greater, cleared to 0) and adds the pass's stats to ctx.mapPasses.
+void renderDepthMap(ShadowContext& ctx, ShadowMap& map);
+
+struct BiasParams {
+  float constant = 1.0f;  // texels
+  float slope = 1.0f;     // texels per unit tan(theta)
+};
+// "map_size", "bias" and "slope_bias", shared by the depth-map techniques.
+std::vector<ParamSpec> depthMapParams(int defaultSize, double defaultBias = 1.0, double defaultSlope = 1.5);
+BiasParams biasParams(const ParamSet& params);
+
+// The receiver depth to compare occluders with: view-space v (v.z > 0), world-space normal n.
+float biasedDepth(const LightView& view, glm::vec3 v, glm::vec3 n, BiasParams b);
+
+// A receiver's depth test, in stored units so that a lookup needs no division: the receiver is lit
+// by texel value z iff z <= threshold (z = near / depth grows towards the light).
+//
+// Receiver-plane depth (Isidoro 2006), for kernels that look up texels away from the receiver's
+// own: the ray through tangent point (tx, ty) meets the receiver's tangent plane dot(nv, q) = k at
+// 1/d = (nv.x tx + nv.y ty + nv.z) / k, which is linear in (tx, ty) -- and so is the stored value
+// near / d. The biased depth d (1 - beta) (beta from biasedDepth) gives the threshold
+//     near / (1 - beta) * clamp((nv.x tx + nv.y ty + nv.z) / k, 1 / (2 v.z), 2 / v.z),
+// the clamp bounding the plane where it is seen edge-on.
+class ReceiverPlane {
+ public:
+  ReceiverPlane(const LightView& view, glm::vec3 v, glm::vec3 n, BiasParams b);
+  float threshold(float tanX, float tanY) const {
+    return scale_ * std::min(hi_, std::max(lo_, a_ * tanX + b_ * tanY + c_));
+  }
+  float tanX() const { return tx_; }
+  float tanY() const { return ty_; }
+  float depth() const { return d_; }
+
+ private:
+  float a_, b_, c_, lo_, hi_, scale_, tx_, ty_, d_;
+};
+
+// The accelerated test of the kernel techniques (PCF, PCSS): bounds of the stored values over every
+// texel that taps inside the tangent-space box [x0, x1] x [y0, y1] can read (a min/max pyramid of
+// the map, raster/kernels.h), against the bounds of the receiver's threshold over the box (linear,
+// so its extremes are at the corners). When even the largest stored value passes the smallest
+// threshold, every tap in the box is lit; when the smallest fails the largest, every tap is
+// blocked: the kernel's result is then known (1 or 0) without its taps, bit for bit the same. A
+// relative margin of 1e-5 covers the rounding of thresholds evaluated at other points.
+enum class BoxTest { AllLit, AllBlocked, Mixed };
+BoxTest testBox(const ShadowMap& map, const raster::MinMaxPyramid& pyramid, const ReceiverPlane& plane, float x0,
+                float y0, float x1, float y1);
+// The "minmax" parameter (on/off) of the techniques that use testBox: off runs every tap, to show
+// what the test saves (the image is the same).
+ParamSpec minMaxParam();
+// Counts receivers resolved without taps, per thread, summed in a fixed order (integers).
+class SkipCounter {
+ public:
+  void add() { ++counts_.local(); }
+  size_t total() const {
+    size_t n = 0;
+    for (size_t c : counts_) n += c;
+    return n;
+  }
+ private:
+  tbb::enumerable_thread_specific<size_t> counts_{0};
+};
+
+// The single-texel test of hard shadows and MVR: threshold of the receiver at its own texel.
+inline float ownThreshold(const LightView& view, glm::vec3 v, glm::vec3 n, BiasParams b) {
+  const float d = biasedDepth(view, v, n, b);
+  return d > 0.0f ? view.znear / d : INFINITY;
+}
+
+}  // namespace penumbra::shadows

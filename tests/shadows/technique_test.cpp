@@ -1,0 +1,203 @@
+// The technique framework: parameters, registry, the light's irradiance, region fitting, caster
+// culling and the light views' projection.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "shadows/area_light.h"
+#include "shadows/light_view.h"
+#include "shadows/shadow_map.h"
+#include "shadows/technique.h"
+
+namespace penumbra::shadows {
+namespace {
+
+TEST(Params, DefaultsRangesAndErrors) {
+  const TechniqueInfo* pcss = findTechnique("pcss");
+  ASSERT_NE(pcss, nullptr);
+  ParamSet p(pcss->params);
+  EXPECT_EQ(p.integer("blocker_samples"), 64);
+  EXPECT_EQ(p.integer("filter_samples"), 128);
+  EXPECT_EQ(p.changed(), "");
+  EXPECT_FALSE(p.set("blocker_samples=16"));
+  EXPECT_EQ(p.integer("blocker_samples"), 16);
+  EXPECT_EQ(p.changed(), "blocker_samples=16");
+  auto err = p.set("blocker_samples=0");
+  ASSERT_TRUE(err);
+  EXPECT_NE(err->find("[1, 1024]"), std::string::npos) << *err;
+  err = p.set("blocker_samples=1.5");
+  ASSERT_TRUE(err);
+  EXPECT_NE(err->find("integer"), std::string::npos) << *err;
+  err = p.set("nonsense=3");
+  ASSERT_TRUE(err);
+  EXPECT_NE(err->find("known: map_size"), std::string::npos) << *err;
+  EXPECT_TRUE(p.set("bias"));
+  EXPECT_TRUE(p.set("bias=nan"));
+  EXPECT_TRUE(p.set("bias=inf"));
+  EXPECT_EQ(p.integer("blocker_samples"), 16);  // failed sets change nothing
+
+  const TechniqueInfo* pcf = findTechnique("pcf");
+  ASSERT_NE(pcf, nullptr);
+  ParamSet q(pcf->params);
+  EXPECT_FALSE(q.setAll("kernel=grid,taps=25"));
+  EXPECT_EQ(q.choice("kernel"), "grid");
+  err = q.set("kernel=box");
+  ASSERT_TRUE(err);
+  EXPECT_NE(err->find("grid, poisson"), std::string::npos) << *err;
+}
+
+TEST(Registry, NamesUniqueAndSettingsValid) {
+  ASSERT_FALSE(registry().empty());
+  for (size_t i = 0; i < registry().size(); ++i) {
+    const TechniqueInfo& t = registry()[i];
+    EXPECT_EQ(findTechnique(t.name), &t);
+    EXPECT_FALSE(t.summary.empty());
+    ASSERT_TRUE(t.make);
+    for (const std::string& s : t.benchSettings) {
+      ParamSet p(t.params);
+      EXPECT_FALSE(p.setAll(s)) << t.name << ": " << s;
+    }
+    for (const ParamSpec& spec : t.params) {
+      EXPECT_LE(spec.minValue, spec.defaultValue) << t.name << "." << spec.name;
+      EXPECT_LE(spec.defaultValue, spec.maxValue) << t.name << "." << spec.name;
+    }
+  }
+  EXPECT_EQ(findTechnique("nope"), nullptr);
+}
+
+// Cosine-weighted solid angle of an a x b rectangle seen from a point at distance c below one
+// corner, facing it: pi times the form factor (Howell's catalogue, configuration B-3).
+double cornerFactor(double a, double b, double c) {
+  const double x = a / c, y = b / c;
+  const double sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
+  return 0.5 * (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy));
+}
+
+TEST(AreaLight, IrradianceMatchesClosedForm) {
+  RectLight l;
+  ASSERT_TRUE(makeRectLight({0, 3, 0}, {0, -1, 0}, {1, 0, 0}, 2.0f, 1.0f, glm::vec3(1), 1.0f, l));
+  EXPECT_NEAR(glm::length(l.normal() - glm::vec3(0, -1, 0)), 0.0f, 1e-6f);
+  // Centred below: four corner rectangles of 1 x 0.5.
+  EXPECT_NEAR(irradianceFactor(l, {0, 0, 0}, {0, 1, 0}), 4 * cornerFactor(1.0, 0.5, 3.0), 1e-5);
+  // Below a corner.
+  EXPECT_NEAR(irradianceFactor(l, {1, 0, 0.5f}, {0, 1, 0}), cornerFactor(2.0, 1.0, 3.0), 1e-5);
+  // Behind the light, or facing away: nothing.
+  EXPECT_EQ(irradianceFactor(l, {0, 4, 0}, {0, -1, 0}), 0.0f);
+  EXPECT_EQ(irradianceFactor(l, {0, 0, 0}, {0, -1, 0}), 0.0f);
+  // A vertical receiver below the centre sees half the light, the same from either side, less than
+  // a horizontal one sees, and more than nothing.
+  const float side = irradianceFactor(l, {0, 0, 0}, {1, 0, 0});
+  EXPECT_NEAR(side, irradianceFactor(l, {0, 0, 0}, {-1, 0, 0}), 1e-6);
+  EXPECT_GT(side, 0.0f);
+  EXPECT_LT(side, irradianceFactor(l, {0, 0, 0}, {0, 1, 0}));
+  // Far away it tends to A cos cos / r^2.
+  const float far = irradianceFactor(l, {0, -997, 0}, {0, 1, 0});
+  EXPECT_NEAR(far, 2.0 / (1000.0 * 1000.0), 1e-9);
+  RectLight bad;
+  std::string why;
+  EXPECT_FALSE(makeRectLight({0, 0, 0}, {0, 0, 0}, {1, 0, 0}, 1, 1, glm::vec3(1), 1, bad, &why));
+  EXPECT_FALSE(why.empty());
+  EXPECT_FALSE(makeRectLight({0, 0, 0}, {0, -1, 0}, {1, 0, 0}, -1, 1, glm::vec3(1), 1, bad));
+}
+
+TEST(AreaLight, HorizonFraction) {
+  RectLight l;
+  ASSERT_TRUE(makeRectLight({0, 3, 0}, {0, -1, 0}, {1, 0, 0}, 2.0f, 1.0f, glm::vec3(1), 1.0f, l));
+  EXPECT_EQ(horizonFraction(l, {0, 0, 0}, {0, 1, 0}), 1.0f);     // all above
+  EXPECT_EQ(horizonFraction(l, {0, 0, 0}, {0, -1, 0}), 0.0f);    // all below
+  EXPECT_EQ(horizonFraction(l, {0, 4, 0}, {0, 1, 0}), 0.0f);     // behind the light
+  EXPECT_NEAR(horizonFraction(l, {0, 0, 0}, {1, 0, 0}), 0.5f, 1e-6f);  // a vertical plane through the centre
+  // A plane through the receiver cutting the light at s = 0.5 (x = 0.5 of a width of 2): 1/4 above.
+  const glm::vec3 n = glm::normalize(glm::cross(glm::vec3(0, 0, 1), glm::vec3(0.5f, 3.0f, 0.0f)));
+  const float f = horizonFraction(l, {0, 0, 0}, -n);
+  EXPECT_NEAR(std::min(f, 1.0f - f), 0.25f, 1e-5f);
+}
+
+ReceiverImage planeReceivers(int w, int h, float half, float y = 0.0f) {
+  ReceiverImage r(w, h);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      Receiver& t = r.at(i, j);
+      t.position = {(2.0f * (static_cast<float>(i) + 0.5f) / static_cast<float>(w) - 1.0f) * half, y,
+                    (2.0f * (static_cast<float>(j) + 0.5f) / static_cast<float>(h) - 1.0f) * half};
+      t.normal = {0, 1, 0};
+      t.valid = 1;
+    }
+  return r;
+}
+
+TEST(LightView, RegionCullingAndProjection) {
+  RectLight l;
+  ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, l));
+  raster::Rasterizer raster({.threads = 2});
+  const ReceiverImage rec = planeReceivers(16, 16, 2.0f);
+  LightRegion region;
+  raster.run([&] { region = fitRegion(l, rec); });
+  ASSERT_FALSE(region.empty);
+  EXPECT_EQ(region.receivers, 256u);
+  EXPECT_NEAR(region.hi.z, 4.0f, 1e-5f);
+  // Casters: one between light and receivers (kept), one beside the light's reach (culled), one
+  // behind the light (culled), one below the receivers (culled).
+  const std::vector<glm::vec3> pos = {{-0.1f, 2, -0.1f}, {0.1f, 2, -0.1f}, {0, 2, 0.1f},
+                                      {20, 2, 0},        {21, 2, 0},       {20, 2, 1},
+                                      {0, 5, 0},         {1, 5, 0},        {0, 5, 1},
+                                      {0, -1, 0},        {1, -1, 0},       {0, -1, 1}};
+  const std::vector<uint32_t> idx = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
+  const CasterSet cs = cullCasters(l, region, {pos, idx});
+  EXPECT_EQ(cs.trianglesIn, 4u);
+  EXPECT_EQ(cs.trianglesCulled, 3u);
+  ASSERT_EQ(cs.indices.size(), 3u);
+  EXPECT_EQ(cs.indices[0], 0u);
+  EXPECT_NEAR(cs.minDepth, 2.0f, 1e-5f);
+
+  // Projection: the clip matrix and toMap agree; stored depth near/d.
+  const LightView v = makeLightView(l, region, {0.25f, -0.25f}, 1.0f, 64, 32);
+  for (const glm::vec3 p : {glm::vec3(0.3f, 0.0f, -1.2f), glm::vec3(-1.9f, 0.0f, 1.9f), glm::vec3(0.1f, 2.0f, 0.2f)}) {
+    const glm::vec4 c = v.viewProj * glm::vec4(p, 1.0f);
+    const glm::vec3 vs = v.toView(p);
+    const glm::vec2 m = v.toMap(vs);
+    EXPECT_NEAR((c.x / c.w * 0.5f + 0.5f) * 64.0f, m.x, 1e-3f);
+    EXPECT_NEAR((0.5f - c.y / c.w * 0.5f) * 32.0f, m.y, 1e-3f);
+    EXPECT_NEAR(c.z / c.w, 1.0f / vs.z, 1e-6f);
+    EXPECT_NEAR(v.depthOf(c.z / c.w), vs.z, 1e-4f);
+    EXPECT_GE(m.x, 0.0f);
+    EXPECT_LE(m.x, 64.0f);
+  }
+  // Every receiver maps inside the map.
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i) {
+      const glm::vec2 m = v.toMap(v.toView(rec.at(i, j).position));
+      EXPECT_TRUE(m.x > 0.0f && m.x < 64.0f && m.y > 0.0f && m.y < 32.0f) << i << "," << j;
+    }
+}
+
+TEST(LightView, ReceiverPlaneDepth) {
+  RectLight l;
+  ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, l));
+  LightRegion region;
+  region.empty = false;
+  region.lo = {-2, -2, 1};
+  region.hi = {2, 2, 4};
+  const LightView v = makeLightView(l, region, {0, 0}, 0.5f, 256, 256);
+  // A tilted plane through p: the threshold at another tangent point is near / depth of the point
+  // of the plane on that ray.
+  const glm::vec3 p(0.5f, 0.0f, 0.3f), n = glm::normalize(glm::vec3(0.3f, 1.0f, -0.2f));
+  const ReceiverPlane plane(v, v.toView(p), n, {0.0f, 0.0f});
+  EXPECT_NEAR(plane.threshold(plane.tanX(), plane.tanY()), v.znear / v.toView(p).z, 1e-6f);
+  const float tx = plane.tanX() + 0.01f, ty = plane.tanY() - 0.02f;
+  const float d = v.znear / plane.threshold(tx, ty);
+  const glm::vec3 q = v.origin + d * (tx * v.right + ty * v.up + v.axis);
+  EXPECT_NEAR(glm::dot(q - p, n), 0.0f, 1e-4f);
+  // Bias moves the compared depth towards the light (a larger stored threshold).
+  const ReceiverPlane biased(v, v.toView(p), n, {1.0f, 1.0f});
+  EXPECT_GT(biased.threshold(tx, ty), plane.threshold(tx, ty));
+  // Seen edge-on, the plane's depth is clamped to [d/2, 2d].
+  const ReceiverPlane edge(v, v.toView(p), glm::normalize(glm::vec3(1.0f, 0.0f, 0.0f)), {0.0f, 0.0f});
+  const float z = edge.threshold(edge.tanX() + 5.0f, edge.tanY());
+  EXPECT_GE(z, v.znear / (2.0f * v.toView(p).z) * 0.999f);
+  EXPECT_LE(z, 2.0f * v.znear / v.toView(p).z * 1.001f);
+}
+
+}  // namespace
+}  // namespace penumbra::shadows

@@ -1,0 +1,160 @@
+// Every technique of the registry on analytic cases: a square light, a straight occluder edge
+// parallel to it and a parallel receiver plane give a known penumbra (a linear ramp of width
+// w (d_r - d_o) / d_o); fully lit and fully blocked receivers give exactly 1 and 0; outputs are in
+// [0, 1], finite, and identical at every thread count.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdio>
+
+#include "shadows/area_light.h"
+#include "shadows/technique.h"
+
+namespace penumbra::shadows {
+namespace {
+
+// The light: 1 x 1 at height 4 facing down, centred over x = 0. The occluder: the half-plane
+// x < 0 at height 2 (a large quad). Receivers: the plane y = 0, x in [-2.5, 2.5], z in [-1, 1].
+// A receiver at x sees light points with x_l >= -x, so V(x) = clamp(x + 0.5, 0, 1): a ramp of width
+// w (d_r - d_o) / d_o = 1 (2 / 2) = 1.
+struct EdgeCase {
+  static constexpr int kW = 80, kH = 12;
+  std::vector<glm::vec3> positions = {{-20, 2, -20}, {0, 2, -20}, {0, 2, 20}, {-20, 2, 20}};
+  std::vector<uint32_t> indices = {0, 1, 2, 0, 2, 3};
+  ReceiverImage receivers{kW, kH};
+  ShadowInputs in;
+
+  EdgeCase() {
+    for (int j = 0; j < kH; ++j)
+      for (int i = 0; i < kW; ++i) {
+        Receiver& r = receivers.at(i, j);
+        r.position = {x(i), 0.0f, -1.0f + 2.0f * (static_cast<float>(j) + 0.5f) / kH};
+        r.normal = {0, 1, 0};
+        r.valid = 1;
+      }
+    receivers.at(0, 0).valid = 0;  // a background texel
+    makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, in.light);
+    in.casters = {positions, indices};
+    in.receivers = &receivers;
+  }
+  // Receivers off the light samples' grid (an offset of 0.0123), so that no sample count is exact
+  // by accident.
+  static float x(int i) { return -2.5f + 5.0f * (static_cast<float>(i) + 0.5f) / kW + 0.0123f; }
+  static float exact(int i) { return std::clamp(x(i) + 0.5f, 0.0f, 1.0f); }
+};
+
+raster::ImageFloat run(const TechniqueInfo& t, const ShadowInputs& in, int threads, const std::string& params = "") {
+  raster::Rasterizer raster({.threads = threads});
+  ParamSet p(t.params);
+  EXPECT_FALSE(p.setAll(params));
+  return computeShadows(raster, in, t, p).visibility;
+}
+
+// Mean absolute error against the ramp over the receivers, and the worst.
+void rampError(const raster::ImageFloat& v, double& mean, double& worst) {
+  double sum = 0;
+  int n = 0;
+  worst = 0;
+  for (int j = 0; j < EdgeCase::kH; ++j)
+    for (int i = 0; i < EdgeCase::kW; ++i) {
+      if (i == 0 && j == 0) continue;
+      const double e = std::abs(static_cast<double>(v.at(i, j)) - static_cast<double>(EdgeCase::exact(i)));
+      sum += e, ++n, worst = std::max(worst, e);
+    }
+  mean = sum / n;
+}
+
+TEST(Techniques, RangeExactnessAndDeterminism) {
+  EdgeCase c;
+  for (const TechniqueInfo& t : registry()) {
+    SCOPED_TRACE(t.name);
+    const raster::ImageFloat v1 = run(t, c.in, 1), v3 = run(t, c.in, 3);
+    EXPECT_EQ(v1.at(0, 0), 1.0f) << "background";
+    for (int j = 0; j < EdgeCase::kH; ++j)
+      for (int i = 0; i < EdgeCase::kW; ++i) {
+        const float v = v1.at(i, j);
+        ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << i << "," << j << ": " << v;
+        ASSERT_EQ(std::bit_cast<uint32_t>(v), std::bit_cast<uint32_t>(v3.at(i, j))) << "threads differ at " << i << "," << j;
+        if (i == 0 && j == 0) continue;  // background
+        // Far from the penumbra [-0.5, 0.5]: exactly 0 in the umbra, exactly 1 in full light.
+        if (EdgeCase::x(i) < -1.5f) {
+          ASSERT_EQ(v, 0.0f) << "umbra at x = " << EdgeCase::x(i);
+        }
+        if (EdgeCase::x(i) > 1.5f) {
+          ASSERT_EQ(v, 1.0f) << "lit at x = " << EdgeCase::x(i);
+        }
+      }
+  }
+}
+
+TEST(Techniques, MinMaxSkippingChangesNothing) {
+  // The min/max pyramid resolves uniformly lit or blocked kernels without taps: same bits. On a
+  // scene with several occluders at different heights and a tilted receiver row as well.
+  EdgeCase c;
+  c.positions.insert(c.positions.end(), {{0.3f, 1.0f, -0.4f}, {0.9f, 1.0f, -0.4f}, {0.6f, 1.2f, 0.5f}});
+  c.indices.insert(c.indices.end(), {4, 5, 6});
+  c.in.casters = {c.positions, c.indices};
+  for (int i = 0; i < EdgeCase::kW; ++i) c.receivers.at(i, 11).normal = glm::normalize(glm::vec3(0.4f, 1.0f, 0.1f));
+  for (const char* name : {"pcf", "pcss"}) {
+    for (const char* extra : {"", "kernel=grid", "map_size=256"}) {
+      if (std::string(name) == "pcss" && std::string(extra) == "kernel=grid") continue;
+      const std::string base = extra;
+      const raster::ImageFloat on = run(*findTechnique(name), c.in, 2, base);
+      const raster::ImageFloat off = run(*findTechnique(name), c.in, 2, base + (base.empty() ? "" : ",") + "minmax=off");
+      for (int j = 0; j < EdgeCase::kH; ++j)
+        for (int i = 0; i < EdgeCase::kW; ++i)
+          ASSERT_EQ(std::bit_cast<uint32_t>(on.at(i, j)), std::bit_cast<uint32_t>(off.at(i, j)))
+              << name << " " << extra << " at " << i << "," << j;
+    }
+  }
+}
+
+TEST(Techniques, BehindTheLightIsUnlitAndNothingToDoIsSkipped) {
+  EdgeCase c;
+  c.receivers.at(5, 5).position.y = 5.0f;  // above the light: behind its emitting side
+  raster::Rasterizer raster({.threads = 2});
+  const TechniqueInfo& hard = *findTechnique("hard");
+  ShadowResult r = computeShadows(raster, c.in, hard, ParamSet(hard.params));
+  EXPECT_EQ(r.visibility.at(5, 5), 0.0f);
+  EXPECT_FALSE(r.skipped);
+  // Move the occluder out of every light path: no pass at all, V = 1.
+  for (glm::vec3& p : c.positions) p.y = -3.0f;
+  r = computeShadows(raster, c.in, hard, ParamSet(hard.params));
+  EXPECT_TRUE(r.skipped);
+  EXPECT_EQ(r.trianglesCulled, 2u);
+  EXPECT_EQ(r.mapPasses.trianglesIn, 0u);
+  EXPECT_EQ(r.visibility.at(40, 6), 1.0f);
+}
+
+TEST(Techniques, PcssMatchesTheAnalyticPenumbra) {
+  // Its assumptions (one planar blocker parallel to the light and the receiver) hold here.
+  EdgeCase c;
+  double mean = 0, worst = 0;
+  rampError(run(*findTechnique("pcss"), c.in, 2), mean, worst);
+  std::printf("pcss vs analytic ramp: mean |err| %.4f, max %.4f\n", mean, worst);
+  EXPECT_LT(mean, 0.01);
+  EXPECT_LT(worst, 0.05);
+  // A hard shadow is a step: it misses by half the ramp on average over the penumbra.
+  rampError(run(*findTechnique("hard"), c.in, 2), mean, worst);
+  EXPECT_GT(worst, 0.4);
+}
+
+TEST(Techniques, MvrConvergesWithViews) {
+  // Error falls with the number of views until the maps' resolution limits it (1024^2 here).
+  EdgeCase c;
+  double previous = 1.0;
+  for (int views : {4, 16, 64, 256}) {
+    double mean = 0, worst = 0;
+    rampError(run(*findTechnique("mvr"), c.in, 2, "map_size=1024,views=" + std::to_string(views)), mean, worst);
+    std::printf("mvr views=%d vs analytic ramp: mean |err| %.4f, max %.4f\n", views, mean, worst);
+    if (views <= 64) {
+      EXPECT_LT(mean, previous * 0.75) << views;
+    }
+    previous = mean;
+  }
+  EXPECT_LT(previous, 0.001);
+}
+
+}  // namespace
+}  // namespace penumbra::shadows
