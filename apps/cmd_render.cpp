@@ -12,6 +12,7 @@
 #include "engine/renderer.h"
 #include "engine/scene_file.h"
 #include "raster/conventions.h"
+#include "shadows/technique.h"
 
 namespace penumbra::apps {
 
@@ -35,9 +36,50 @@ void checkThreads(int threads) {
 
 }  // namespace
 
+std::string checkShadowOptions(const std::string& shadow, const std::vector<std::string>& params) {
+  if (shadow == "none") {
+    if (!params.empty()) fail("option --param", "the shadow technique 'none' has no parameters");
+    return {};
+  }
+  const shadows::TechniqueInfo* info = shadows::findTechnique(shadow);
+  if (!info) fail("option --shadow", "unknown technique '" + shadow + "' (valid: none, " + shadows::techniqueNames() + ")");
+  shadows::ParamSet set(info->params);
+  std::string joined;
+  for (const std::string& p : params) {
+    if (p.find(',') != std::string::npos) fail("option --param", "give one name=value per --param, not '" + p + "'");
+    if (auto err = set.set(p)) fail("option --param", *err + " for technique '" + shadow + "'");
+    joined += (joined.empty() ? "" : ",") + p;
+  }
+  return joined;
+}
+
+void listShadowTechniques() {
+  for (const shadows::TechniqueInfo& t : shadows::registry()) {
+    std::printf("%-10s %s\n", t.name.c_str(), t.summary.c_str());
+    for (const shadows::ParamSpec& p : t.params) {
+      std::string range;
+      if (p.kind == shadows::ParamKind::Choice) {
+        for (const std::string& c : p.choices) range += (range.empty() ? "" : "|") + c;
+        range += ", default " + p.choices[static_cast<size_t>(p.defaultValue)];
+      } else {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%s in [%g, %g], default %g", p.kind == shadows::ParamKind::Int ? "int" : "float",
+                      p.minValue, p.maxValue, p.defaultValue);
+        range = buf;
+      }
+      std::printf("    %-16s %s (%s)\n", p.name.c_str(), p.help.c_str(), range.c_str());
+    }
+  }
+  std::printf("%-10s no shadows (V = 1)\n", "none");
+}
+
 int runRender(const RenderArgs& a) {
   if (a.listBuiltins) {
     for (const engine::BuiltinInfo& b : engine::builtinScenes()) std::printf("%-10s %s\n", b.name.c_str(), b.description.c_str());
+    return 0;
+  }
+  if (a.listShadows) {
+    listShadowTechniques();
     return 0;
   }
   // Validate every option before any work or output.
@@ -49,6 +91,7 @@ int runRender(const RenderArgs& a) {
   std::optional<glm::vec3> eye, target;
   if (!a.eye.empty()) eye = parseVec3("--eye", a.eye);
   if (!a.target.empty()) target = parseVec3("--target", a.target);
+  const std::string shadowParams = checkShadowOptions(a.shadow, a.params);
   const std::string output = a.output;
   auto checkExt = [](const std::string& option, const std::string& path, const std::vector<std::string>& exts) {
     const auto dot = path.find_last_of('.');
@@ -79,6 +122,9 @@ int runRender(const RenderArgs& a) {
   engine::RenderOptions options;
   options.width = a.width;
   options.height = a.height;
+  options.shadow = a.shadow;
+  options.shadowParams = shadowParams;
+  options.cacheDir = a.cache;
   if (eye || target || a.fov != 0.0) {
     engine::RenderOptions base = options;
     engine::Camera cam = engine::chooseCamera(*scene, base);

@@ -3,6 +3,7 @@
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "apps/stress_raster.h"
+#include "apps/stress_shadows.h"
 
 namespace penumbra::apps {
 
@@ -11,6 +12,27 @@ int runStress(const StressArgs& a) {
   allowThreads(a.threads);
   raster::Rasterizer rast({.threads = a.threads});
   Progress progress("stress " + a.suite);
+  if (a.suite == "shadows") {
+    progress.step(1, 1, "shadow cases");
+    const std::vector<ShadowStressRow> rows = runShadowStress(rast);
+    progress.done();
+    int broken = 0;
+    if (!a.json)
+      std::printf("%-8s %-12s %-24s %9s %7s %7s %9s %9s  %s\n", "technique", "case", "parameter", "receivers", "nonfin",
+                  "range", "bleed", "darken", "verdict");
+    for (const ShadowStressRow& r : rows) {
+      if (!r.ok()) ++broken;
+      if (a.json)
+        std::printf("%s\n", r.json().c_str());
+      else
+        std::printf("%-8s %-12s %-24s %9zu %7zu %7zu %9.4f %9.4f  %s\n", r.technique.c_str(), r.name.c_str(),
+                    r.param.c_str(), r.receivers, r.nonFinite, r.outOfRange, r.bleed, r.darkening,
+                    r.ok() ? "ok" : "BROKEN");
+    }
+    if (!a.json) std::printf("%zu cases, %d broken (bleed: max V in full umbra; darken: 1 - min V in full light)\n",
+                             rows.size(), broken);
+    return broken == 0 ? 0 : 1;
+  }
   progress.step(1, 1, "raster cases");
   const std::vector<StressRow> rows = runRasterStress(rast);
   progress.done();

@@ -1,6 +1,7 @@
 // penumbra: the command line. Subcommands:
 //   render  render a scene file, glTF file or built-in scene to PNG (and EXR)
 //   bench   raster: time the standard workloads W1/W2 (shared/WORKLOADS.md)
+//           shadows: soft-shadow techniques, run time per stage against error vs the ground truth
 //   stress  raster: sweep the numerically hard cases and report what broke
 // Bad input (files, options, values) ends with one line on stderr and exit status 2, before any
 // output file is written.
@@ -37,6 +38,12 @@ int main(int argc, char** argv) {
   r->add_option("--target", render.target, "Camera target X,Y,Z");
   r->add_option("--fov", render.fov, "Vertical field of view in degrees (0, 180)");
   r->add_flag("--stats", render.stats, "Print the frame plan: what each pass did and skipped");
+  r->add_option("--shadow", render.shadow,
+                "Soft-shadow technique for the area lights (default pcss; 'reference' = ray-traced ground truth; "
+                "'none'; see --list-shadows)");
+  r->add_option("--param", render.params, "Technique parameter name=value (repeatable)");
+  r->add_option("--cache", render.cache, "Folder caching the ground truth between runs (default: none)");
+  r->add_flag("--list-shadows", render.listShadows, "List the shadow techniques and their parameters and exit");
 
   BenchRasterArgs bench;
   CLI::App* b = app.add_subcommand("bench", "Benchmarks");
@@ -50,9 +57,24 @@ int main(int argc, char** argv) {
   br->add_option("--min-time", bench.minSeconds, "Minimum seconds per run (default 1)");
   br->add_flag("--json", bench.json, "One JSON object per run on stdout");
 
+  BenchShadowsArgs benchShadows;
+  CLI::App* bs = b->add_subcommand("shadows", "Soft-shadow techniques: run time per stage against error vs the ground truth");
+  bs->add_option("--scene", benchShadows.scenes, "Built-in scene or scene file (repeatable; default the five bench scenes)");
+  bs->add_option("--technique", benchShadows.techniques, "Technique to run with its bench settings (repeatable; default all)");
+  bs->add_option("--setting", benchShadows.settings, "Extra setting technique:name=value,... (repeatable)");
+  bs->add_option("--width", benchShadows.width, "Image width [16, 4096] (default 480)");
+  bs->add_option("--height", benchShadows.height, "Image height [16, 4096] (default 270)");
+  bs->add_option("--runs", benchShadows.runs, "Timed runs per setting; medians are reported (default 3)");
+  bs->add_option("--gt-samples", benchShadows.gtSamples, "Ground-truth rays per receiver (default 1024)");
+  bs->add_option("--threads", benchShadows.threads, "Worker threads (0 = all cores)");
+  bs->add_option("--out", benchShadows.out, "Report folder (default out/bench-shadows)");
+  bs->add_option("--cache", benchShadows.cache, "Ground-truth cache folder (default <out>/gt-cache)");
+  bs->add_flag("--json", benchShadows.json, "One JSON object per (scene, technique, setting) on stdout");
+
   StressArgs stress;
   CLI::App* s = app.add_subcommand("stress", "Sweep numerically hard cases; exit 1 if anything broke");
-  s->add_option("--suite", stress.suite, "Suite to run: raster")->check(CLI::IsMember({"raster"}));
+  s->add_option("--suite", stress.suite, "Suite to run: raster (default) or shadows")
+      ->check(CLI::IsMember({"raster", "shadows"}));
   s->add_option("--threads", stress.threads, "Worker threads (0 = all cores)");
   s->add_flag("--json", stress.json, "One JSON object per case on stdout");
 
@@ -78,6 +100,7 @@ int main(int argc, char** argv) {
   try {
     if (r->parsed()) return runRender(render);
     if (br->parsed()) return runBenchRaster(bench);
+    if (bs->parsed()) return runBenchShadows(benchShadows);
     if (s->parsed()) return runStress(stress);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "penumbra: error: %s\n", e.error.line().c_str());

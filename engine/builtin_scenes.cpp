@@ -1,6 +1,8 @@
 #include "engine/builtin_scenes.h"
 
 #include <glm/ext/matrix_transform.hpp>
+#include <cassert>
+#include <cmath>
 #include <numbers>
 
 #include "engine/shapes.h"
@@ -50,6 +52,14 @@ int addChecker(Scene& s, int size, int squares, raster::Rgba8 a, raster::Rgba8 b
   return static_cast<int>(s.textures.size()) - 1;
 }
 
+void addAreaLight(Scene& s, glm::vec3 centre, glm::vec3 facing, float width, float height, glm::vec3 color,
+                  float intensity) {
+  shadows::RectLight l;
+  [[maybe_unused]] const bool ok = makeRectLight(centre, facing, {1, 0, 0}, width, height, color, intensity, l);
+  assert(ok);
+  s.areaLights.push_back(l);
+}
+
 glm::mat4 at(glm::vec3 p, float yawDeg = 0.0f, float scale = 1.0f) {
   glm::mat4 m = glm::translate(glm::mat4(1.0f), p);
   m = glm::rotate(m, yawDeg * kDeg, glm::vec3(0, 1, 0));
@@ -79,10 +89,104 @@ Scene makeDefault() {
   cam.target = {0.0f, 0.8f, 0.0f};
   cam.fovYDegrees = 40.0f;
   s.camera = cam;
-  s.directionalLights.push_back({glm::normalize(glm::vec3(-0.45f, -1.0f, -0.35f)), {1.0f, 0.95f, 0.88f}, 1.1f});
-  s.pointLights.push_back({{-3.0f, 3.0f, 3.5f}, {0.55f, 0.7f, 1.0f}, 3.0f});
+  addAreaLight(s, {-2.0f, 6.0f, 1.0f}, {0.35f, -1.0f, -0.15f}, 2.5f, 2.5f, {1.0f, 0.95f, 0.88f}, 16.0f);
+  s.pointLights.push_back({{-3.0f, 3.0f, 3.5f}, {0.55f, 0.7f, 1.0f}, 2.0f});
   s.ambient = glm::vec3(0.07f, 0.08f, 0.1f);
   s.background = glm::vec3(0.32f, 0.42f, 0.55f);
+  return s;
+}
+
+// --- Shadow benchmark scenes -------------------------------------------------------------------
+// Each separates the techniques on one known failure (docs/performance.md, "Soft shadows"): grey
+// Lambertian surfaces on a ground plane, one area light, no other light, a camera looking down at
+// the penumbrae.
+
+Scene shadowStage(const std::string& name, glm::vec3 eye, glm::vec3 target) {
+  Scene s;
+  s.name = name;
+  addObject(s, "ground", makePlane(16.0f, 16.0f, 4), addMaterial(s, "ground", glm::vec3(0.8f)), glm::mat4(1.0f));
+  Camera cam;
+  cam.eye = eye;
+  cam.target = target;
+  cam.fovYDegrees = 45.0f;
+  s.camera = cam;
+  s.ambient = glm::vec3(0.03f);
+  s.background = glm::vec3(0.2f, 0.22f, 0.25f);
+  return s;
+}
+
+glm::mat4 boxAt(glm::vec3 centre, glm::vec3 size, float yawDeg = 0.0f) {
+  glm::mat4 m = glm::translate(glm::mat4(1.0f), centre);
+  m = glm::rotate(m, yawDeg * kDeg, glm::vec3(0, 1, 0));
+  return glm::scale(m, size);
+}
+
+// (a) Contact hardening: objects touching the ground and others at several heights above it.
+Scene makeContact() {
+  Scene s = shadowStage("contact", {0.0f, 6.5f, 7.5f}, {0.0f, 0.4f, 0.0f});
+  const int m = addMaterial(s, "clay", {0.75f, 0.7f, 0.62f});
+  addObject(s, "pillar", makeBox(glm::vec3(1.0f)), m, boxAt({-2.6f, 1.0f, 0.0f}, {0.5f, 2.0f, 0.5f}, 20.0f));
+  addObject(s, "sphere 0", makeSphere(0.5f, 32, 64), m, at({-1.0f, 0.5f, 0.6f}));
+  addObject(s, "sphere 1", makeSphere(0.5f, 32, 64), m, at({0.4f, 1.2f, 0.6f}));
+  addObject(s, "sphere 2", makeSphere(0.5f, 32, 64), m, at({1.8f, 2.2f, 0.6f}));
+  addObject(s, "slab", makeBox(glm::vec3(1.0f)), m, boxAt({1.2f, 0.6f, -1.8f}, {2.2f, 0.08f, 0.8f}, -10.0f));
+  addAreaLight(s, {0.0f, 6.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, 1.6f, 1.6f, glm::vec3(1.0f), 40.0f);
+  return s;
+}
+
+// (b) Occluder fusion: overlapping occluders at very different depths under a large light; the
+// average blocker depth of PCSS lies between them and matches neither.
+Scene makeFusion() {
+  Scene s = shadowStage("fusion", {0.0f, 7.0f, 7.0f}, {0.0f, 0.3f, 0.0f});
+  const int m = addMaterial(s, "clay", {0.7f, 0.72f, 0.75f});
+  addObject(s, "high plate", makeBox(glm::vec3(1.0f)), m, boxAt({-0.6f, 3.6f, 0.0f}, {2.4f, 0.06f, 1.6f}));
+  addObject(s, "low plate", makeBox(glm::vec3(1.0f)), m, boxAt({0.9f, 0.35f, 0.3f}, {1.8f, 0.06f, 1.4f}, 15.0f));
+  addObject(s, "low bar", makeBox(glm::vec3(1.0f)), m, boxAt({-1.2f, 0.6f, 1.3f}, {2.6f, 0.12f, 0.25f}, -25.0f));
+  addObject(s, "mid ball", makeSphere(0.45f, 32, 64), m, at({1.6f, 1.8f, -1.2f}));
+  addAreaLight(s, {0.0f, 5.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, 3.0f, 3.0f, glm::vec3(1.0f), 14.0f);
+  return s;
+}
+
+// (c) Thin geometry: poles and a fence of slats a few texels wide in a shadow map, which a sparse
+// blocker search steps over.
+Scene makeThin() {
+  Scene s = shadowStage("thin", {0.5f, 6.0f, 7.0f}, {0.0f, 0.6f, 0.0f});
+  const int m = addMaterial(s, "wood", {0.62f, 0.5f, 0.38f});
+  for (int i = 0; i < 14; ++i)  // fence slats
+    addObject(s, "slat " + std::to_string(i), makeBox(glm::vec3(1.0f)), m,
+              boxAt({-2.6f + 0.3f * static_cast<float>(i), 0.8f, -0.8f}, {0.05f, 1.6f, 0.05f}));
+  addObject(s, "rail", makeBox(glm::vec3(1.0f)), m, boxAt({-0.65f, 1.45f, -0.8f}, {4.2f, 0.05f, 0.05f}));
+  for (int i = 0; i < 5; ++i)  // poles
+    addObject(s, "pole " + std::to_string(i), makeCylinder(0.03f, 2.6f + 0.3f * static_cast<float>(i), 16), m,
+              at({-1.8f + 0.9f * static_cast<float>(i), 1.3f + 0.15f * static_cast<float>(i), 1.2f}));
+  addObject(s, "wire", makeBox(glm::vec3(1.0f)), m, boxAt({0.0f, 2.9f, 1.2f}, {4.0f, 0.03f, 0.03f}));
+  addAreaLight(s, {0.5f, 5.5f, 0.5f}, {0.0f, -1.0f, 0.0f}, 1.2f, 1.2f, glm::vec3(1.0f), 60.0f);
+  return s;
+}
+
+// (d) A complex mesh: a displaced sphere of 128,000 triangles with self-shadowing folds.
+Scene makeComplex() {
+  Scene s = shadowStage("complex", {0.0f, 5.5f, 6.5f}, {0.0f, 1.0f, 0.0f});
+  Mesh blob = makeSphere(1.0f, 200, 320);
+  for (glm::vec3& p : blob.positions) {
+    const float r = 1.0f + 0.22f * std::sin(7.0f * p.x + 1.3f) * std::sin(6.0f * p.y) * std::sin(7.0f * p.z + 0.4f) +
+                    0.08f * std::sin(23.0f * p.y + 5.0f * p.x);
+    p *= r;
+  }
+  computeNormals(blob);
+  addObject(s, "blob", std::move(blob), addMaterial(s, "stone", {0.68f, 0.66f, 0.6f}), at({0.0f, 1.6f, 0.0f}, 0.0f, 1.3f));
+  addAreaLight(s, {-1.0f, 6.0f, 1.0f}, {0.15f, -1.0f, -0.1f}, 2.0f, 2.0f, glm::vec3(1.0f), 30.0f);
+  return s;
+}
+
+// (e) A large light close to the objects: wide penumbrae, umbrae that vanish.
+Scene makeBigLight() {
+  Scene s = shadowStage("biglight", {0.0f, 5.0f, 6.0f}, {0.0f, 0.3f, 0.0f});
+  const int m = addMaterial(s, "clay", {0.72f, 0.7f, 0.68f});
+  addObject(s, "cube", makeBox(glm::vec3(1.0f)), m, boxAt({-1.3f, 0.5f, 0.0f}, glm::vec3(1.0f), 30.0f));
+  addObject(s, "ball", makeSphere(0.45f, 32, 64), m, at({0.6f, 0.9f, 0.7f}));
+  addObject(s, "post", makeCylinder(0.15f, 1.6f, 32), m, at({1.6f, 0.8f, -0.8f}));
+  addAreaLight(s, {0.0f, 2.4f, 0.0f}, {0.0f, -1.0f, 0.0f}, 4.0f, 3.0f, glm::vec3(1.0f), 3.0f);
   return s;
 }
 
@@ -98,7 +202,12 @@ Scene makeSynth(long tris) {
 }  // namespace
 
 std::vector<BuiltinInfo> builtinScenes() {
-  return {{kDefaultScene, "objects (sphere, box, torus, cylinder) on a textured ground plane, sun and point light"},
+  return {{kDefaultScene, "objects (sphere, box, torus, cylinder) on a textured ground plane, an area light and a fill light"},
+          {"contact", "shadow bench (a): objects on a plane and at several heights above it (contact hardening)"},
+          {"fusion", "shadow bench (b): overlapping occluders at very different depths under a large light"},
+          {"thin", "shadow bench (c): a fence of thin slats, poles and a wire"},
+          {"complex", "shadow bench (d): a displaced sphere of 128,000 triangles with self-shadowing"},
+          {"biglight", "shadow bench (e): a large light close to the objects"},
           {"synth1m", "the synthetic benchmark mesh of WORKLOADS.md: 8x8 UV spheres, 999,936 triangles"},
           {"synth4m", "the synthetic benchmark mesh of WORKLOADS.md: 8x8 UV spheres, 3,968,000 triangles"}};
 }
@@ -106,6 +215,11 @@ std::vector<BuiltinInfo> builtinScenes() {
 Result<Scene> makeBuiltinScene(const std::string& name) {
   Scene s;
   if (name == kDefaultScene) s = makeDefault();
+  else if (name == "contact") s = makeContact();
+  else if (name == "fusion") s = makeFusion();
+  else if (name == "thin") s = makeThin();
+  else if (name == "complex") s = makeComplex();
+  else if (name == "biglight") s = makeBigLight();
   else if (name == "synth1m") s = makeSynth(1000000);
   else if (name == "synth4m") s = makeSynth(4000000);
   else {

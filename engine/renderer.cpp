@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 #include <numbers>
+#include <stdexcept>
 
 #include "engine/texture.h"
 
@@ -105,10 +106,10 @@ std::string FrameStats::report() const {
   std::string s;
   char buf[512];
   std::snprintf(buf, sizeof buf,
-                "frame: %.2f ms (cull %.2f, G-buffer %.2f, shade %.2f); camera %s\n"
+                "frame: %.2f ms (cull %.2f, G-buffer %.2f, shadows %.2f, shade %.2f); camera %s\n"
                 "  instances %zu: culled by view frustum before vertex work %zu (%zu triangles skipped), drawn %zu "
                 "(%zu triangles)\n",
-                msTotal, msCull, msGbuffer, msShade, cameraSource.c_str(), instances, instancesCulled,
+                msTotal, msCull, msGbuffer, msShadows, msShade, cameraSource.c_str(), instances, instancesCulled,
                 trianglesSkippedByCulling, instances - instancesCulled, trianglesSubmitted);
   s += buf;
   if (!culledNames.empty()) {
@@ -118,11 +119,86 @@ std::string FrameStats::report() const {
     s += "\n";
   }
   s += gbuffer.report("G-buffer pass");
-  s += "  skipped passes: shadow maps (no shadowing technique yet), stochastic pass (no motion, pinhole camera)\n";
+  for (size_t i = 0; i < shadows.size(); ++i) {
+    const LightShadowStats& l = shadows[i];
+    std::snprintf(buf, sizeof buf,
+                  "  area light %zu: %s%s%s: %.2f ms (flatten %.2f, fit %.2f, maps %.2f, filter %.2f, evaluate %.2f)\n"
+                  "    receivers in front %zu, behind the light %zu; instances culled by the light's region %zu; "
+                  "triangles flattened %zu, culled per triangle %zu, kept %zu\n",
+                  i, l.technique.c_str(), l.params.empty() ? "" : " ", l.params.c_str(),
+                  l.msFlatten + l.msFit + l.times.total(), l.msFlatten, l.msFit, l.times.msMaps, l.times.msFilter,
+                  l.times.msEvaluate, l.receivers, l.receiversBehind, l.instancesCulled, l.trianglesFlattened,
+                  l.trianglesCulled, l.trianglesFlattened - l.trianglesCulled);
+    s += buf;
+    if (l.skipped) s += "    skipped: no shadow pass (" + l.skipReason + "); V = 1 in front of the light\n";
+    for (const std::string& n : l.notes) s += "    " + n + "\n";
+    if (l.maps.trianglesIn > 0) s += "  " + l.maps.report("shadow map passes (summed)");
+  }
+  std::string skipped;
+  if (shadows.empty()) skipped += "shadow maps (no area light), ";
+  skipped += "stochastic pass (no motion, pinhole camera)";
+  s += "  skipped passes: " + skipped + "\n";
   return s;
 }
 
 Renderer::Renderer(int threads) : raster_({.threads = threads}) {}
+
+namespace {
+
+// V of one area light over the G-buffer, with the instance-level culling and flattening that turn
+// the Scene into what shadows/ consumes.
+raster::ImageFloat shadowVisibility(raster::Rasterizer& raster, const Scene& scene, const shadows::ReceiverImage& rec,
+                                    const shadows::RectLight& light, const RenderOptions& options,
+                                    const shadows::TechniqueInfo* info, const shadows::ParamSet& params,
+                                    LightShadowStats& st) {
+  const auto t0 = Clock::now();
+  shadows::LightRegion region;
+  raster.run([&] { region = shadows::fitRegion(light, rec); });
+  st.receivers = region.receivers;
+  st.receiversBehind = region.receiversBehind;
+  // Instances that may shadow a receiver, flattened to world space.
+  std::vector<glm::vec3> positions;
+  std::vector<uint32_t> indices;
+  for (const Instance& inst : scene.instances) {
+    const Mesh& m = scene.meshes[static_cast<size_t>(inst.mesh)];
+    glm::vec3 corners[8];
+    for (int c = 0; c < 8; ++c)
+      corners[c] = glm::vec3(inst.transform * glm::vec4((c & 1) ? m.boundsMax.x : m.boundsMin.x,
+                                                        (c & 2) ? m.boundsMax.y : m.boundsMin.y,
+                                                        (c & 4) ? m.boundsMax.z : m.boundsMin.z, 1.0f));
+    if (m.indices.empty()) continue;
+    if (options.shadowCulling && !region.mayShadow(light, corners)) {
+      ++st.instancesCulled;
+      continue;
+    }
+    const uint32_t base = static_cast<uint32_t>(positions.size());
+    for (const glm::vec3& p : m.positions) positions.push_back(glm::vec3(inst.transform * glm::vec4(p, 1.0f)));
+    for (uint32_t i : m.indices) indices.push_back(base + i);
+  }
+  st.trianglesFlattened = indices.size() / 3;
+  st.msFlatten = msSince(t0);
+  if (!info) {  // "none": unshadowed
+    raster::ImageFloat v(rec.width(), rec.height(), 1.0f);
+    return v;
+  }
+  shadows::ShadowInputs in;
+  in.casters = {positions, indices};
+  in.receivers = &rec;
+  in.light = light;
+  in.cacheDir = options.cacheDir;
+  in.cullCasters = options.shadowCulling;
+  shadows::ShadowResult r = shadows::computeShadows(raster, in, *info, params);
+  st.trianglesCulled = r.trianglesCulled;
+  st.skipped = r.skipped;
+  st.skipReason = r.skipReason;
+  st.times = r.times;
+  st.msFit = r.msFit;
+  st.notes = std::move(r.notes);
+  st.maps = r.mapPasses;
+  return std::move(r.visibility);
+}
+
+}  // namespace
 
 Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
   const auto t0 = Clock::now();
@@ -231,6 +307,39 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
   }
   st.msGbuffer = msSince(t1);
 
+  // Area-light visibility.
+  const auto tShadow = Clock::now();
+  const shadows::TechniqueInfo* info = nullptr;
+  shadows::ParamSet params;
+  if (options.shadow != "none") {
+    info = shadows::findTechnique(options.shadow);
+    if (!info)
+      throw std::invalid_argument("unknown shadow technique '" + options.shadow + "' (known: none, " +
+                                  shadows::techniqueNames() + ")");
+    params = shadows::ParamSet(info->params);
+    if (auto err = params.setAll(options.shadowParams)) throw std::invalid_argument(*err);
+  }
+  if (!scene.areaLights.empty()) {
+    shadows::ReceiverImage rec(w, h);
+    raster_.run([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y != rows.end(); ++y)
+          for (int x = 0; x < w; ++x) {
+            const GBufferTexel& g = frame.gbuffer.at(x, y);
+            rec.at(x, y) = {g.position, g.normal, g.material >= 0 ? 1u : 0u};
+          }
+      });
+    });
+    for (const shadows::RectLight& light : scene.areaLights) {
+      LightShadowStats ls;
+      ls.technique = info ? info->name : "none";
+      ls.params = info ? params.changed() : "";
+      frame.visibility.push_back(shadowVisibility(raster_, scene, rec, light, options, info, params, ls));
+      st.shadows.push_back(std::move(ls));
+    }
+  }
+  st.msShadows = msSince(tShadow);
+
   // Shading pass, tile-parallel over rows of pixels.
   const auto t2 = Clock::now();
   frame.linear.resize(w, h);
@@ -264,6 +373,21 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
               const glm::vec3 d = pl.position - g.position;
               const float d2 = std::max(glm::dot(d, d), 1e-8f);
               light(d / std::sqrt(d2), pl.color * (pl.intensity / d2));
+            }
+            for (size_t li = 0; li < scene.areaLights.size(); ++li) {
+              const shadows::RectLight& al = scene.areaLights[li];
+              // Diffuse: rho / pi * E with E = radiance * irradianceFactor (exact, unshadowed), times V.
+              const float factor = shadows::irradianceFactor(al, g.position, g.normal);
+              if (factor <= 0.0f) continue;
+              const glm::vec3 e = al.color * (al.intensity * factor * frame.visibility[li].at(x, y));
+              c += g.albedo * e * (1.0f / std::numbers::pi_v<float>);
+              // Specular: Blinn-Phong towards the light's centre, scaled by the same E.
+              const glm::vec3 toLight = glm::normalize(al.center - g.position);
+              if (mat.specular > 0.0f && glm::dot(g.normal, toLight) > 0.0f) {
+                const glm::vec3 hv = glm::normalize(toLight + v);
+                c += e * (mat.specular * std::pow(std::max(glm::dot(g.normal, hv), 0.0f), mat.shininess) /
+                          std::numbers::pi_v<float>);
+              }
             }
             alpha = 1.0f;
           }

@@ -2,9 +2,14 @@
 //
 // The plan, printed with --stats: camera (given or fitted to the bounds), instances culled by
 // their world bounding box against the view frustum before any vertex work, one deferred
-// G-buffer pass (world position, normal, albedo, material) over the visible instances, then a
-// tile-parallel shading pass: Lambert diffuse plus Blinn-Phong specular from directional and point
-// lights and a constant ambient term; the background where nothing was drawn. Linear color is
+// G-buffer pass (world position, normal, albedo, material) over the visible instances, then per
+// area light its visibility V from the chosen shadow technique (shadows/: the light's region is
+// fitted to the receivers the G-buffer holds; instances that cannot shadow them are culled before
+// their triangles are flattened to world space; a light with no caster in reach takes no shadow
+// pass), then a tile-parallel shading pass: Lambert diffuse plus Blinn-Phong specular from
+// directional and point lights (unshadowed) and area lights (exact unshadowed irradiance times V,
+// specular towards the light's centre), and a constant ambient term; the background where nothing
+// was drawn. Linear color is
 // written to an RGBA8 sRGB image and, on request, kept as float.
 //
 // Conventions: world space right-handed, y up; clip space zero-to-one depth, depth test less.
@@ -19,6 +24,7 @@
 
 #include "engine/scene.h"
 #include "raster/pipeline.h"
+#include "shadows/technique.h"
 
 namespace penumbra::engine {
 
@@ -26,6 +32,28 @@ struct RenderOptions {
   int width = 1280;    // pixels, [1, raster::kMaxTargetSize]
   int height = 720;    // pixels, [1, raster::kMaxTargetSize]
   std::optional<Camera> camera;  // overrides the scene's camera
+  // Soft shadows of the area lights: a technique of the shadows/ registry ("reference" is the
+  // ray-traced ground truth) or "none" (unshadowed). Unknown names and invalid parameters throw
+  // std::invalid_argument (the CLI validates them first).
+  std::string shadow = "pcss";
+  std::string shadowParams;   // "name=value,name=value", checked against the technique's parameters
+  std::string cacheDir;       // where techniques may cache results ("" = none)
+  bool shadowCulling = true;  // cull casters outside each light's region (off: to measure the saving)
+};
+
+// What the shadow computation of one area light did.
+struct LightShadowStats {
+  std::string technique, params;
+  size_t instancesCulled = 0;        // whole instances outside the light's region, before flattening
+  size_t trianglesFlattened = 0;     // world-space triangles handed to shadows/
+  size_t trianglesCulled = 0;        // of those, outside the region (per triangle)
+  size_t receivers = 0, receiversBehind = 0;
+  bool skipped = false;
+  std::string skipReason;
+  shadows::StageTimes times;
+  double msFlatten = 0, msFit = 0;
+  std::vector<std::string> notes;
+  raster::PassStats maps;
 };
 
 // One texel of the G-buffer.
@@ -41,7 +69,8 @@ struct FrameStats {
   size_t trianglesSubmitted = 0, trianglesSkippedByCulling = 0;
   std::vector<std::string> culledNames;  // first few
   raster::PassStats gbuffer;
-  double msCull = 0, msGbuffer = 0, msShade = 0, msTotal = 0;
+  std::vector<LightShadowStats> shadows;  // one per area light
+  double msCull = 0, msGbuffer = 0, msShadows = 0, msShade = 0, msTotal = 0;
   std::string cameraSource;  // "scene", "options" or "fitted to bounds"
   std::string report() const;
 };
@@ -51,6 +80,7 @@ struct Frame {
   raster::ImageFloat4 linear; // linear radiance, alpha = coverage
   raster::Image<GBufferTexel> gbuffer;
   raster::DepthTarget depth;
+  std::vector<raster::ImageFloat> visibility;  // per area light: V (1 on background texels)
   FrameStats stats;
   glm::mat4 viewProj{1.0f};
 };

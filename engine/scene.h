@@ -14,6 +14,7 @@
 
 #include "engine/error.h"
 #include "raster/image.h"
+#include "shadows/area_light.h"
 
 namespace penumbra::engine {
 
@@ -80,6 +81,9 @@ struct Scene {
   std::optional<Camera> camera;  // none: the renderer frames the scene bounds
   std::vector<DirectionalLight> directionalLights;
   std::vector<PointLight> pointLights;
+  // Rectangular area lights: the lights that cast (soft) shadows, with the technique chosen in
+  // RenderOptions. Directional and point lights are unshadowed.
+  std::vector<shadows::RectLight> areaLights;
   glm::vec3 ambient{0.08f};      // constant ambient term added to the lit color
   glm::vec3 background{0.1f, 0.1f, 0.12f};
 

@@ -341,8 +341,22 @@ class SceneParser {
       l.color = vec3(e, "color", at, l.color, kNonNegative);
       l.intensity = number(e, "intensity", at, l.intensity, kNonNegative);
       scene_.pointLights.push_back(l);
+    } else if (type == "area") {
+      checkKeys(e, at, {"type", "center", "normal", "width_axis", "width", "height", "color", "intensity"},
+                " for an area light");
+      const glm::vec3 center = vector<3>(required(e, "center", at), member(at, "center"), kAny);
+      const glm::vec3 normal = direction(e, "normal", at);
+      const glm::vec3 axis = vec3(e, "width_axis", at, glm::vec3(1, 0, 0), kAny);
+      const float width = number(e, "width", at, 1.0f, Range{0.0, HUGE_VAL, true, false});
+      const float height = number(e, "height", at, 1.0f, Range{0.0, HUGE_VAL, true, false});
+      const glm::vec3 color = vec3(e, "color", at, glm::vec3(1.0f), kNonNegative);
+      const float intensity = number(e, "intensity", at, 1.0f, kNonNegative);
+      shadows::RectLight l;
+      std::string why;
+      if (!shadows::makeRectLight(center, normal, axis, width, height, color, intensity, l, &why)) invalid(at + ": " + why);
+      scene_.areaLights.push_back(l);
     } else {
-      invalid(member(at, "type") + " must be 'directional' or 'point'");
+      invalid(member(at, "type") + " must be 'directional', 'point' or 'area'");
     }
   }
 

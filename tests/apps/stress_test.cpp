@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "apps/stress_raster.h"
+#include "apps/stress_shadows.h"
+#include "shadows/technique.h"
 
 namespace penumbra::apps {
 namespace {
@@ -27,6 +29,29 @@ TEST(Stress, StandardZAtExtremeRatiosIsReportedAsBroken) {
   for (const StressRow& row : runRasterStress(r))
     if (!row.judged && row.depthErrors > 0) sawErrors = true;
   EXPECT_TRUE(sawErrors);
+}
+
+TEST(Stress, ShadowSuiteFiniteAndInRange) {
+  raster::Rasterizer r({.threads = 2});
+  const std::vector<ShadowStressRow> rows = runShadowStress(r);
+  size_t techniques = 0;
+  for (const shadows::TechniqueInfo& t : shadows::registry()) techniques += t.isReference ? 0 : 1;
+  ASSERT_EQ(rows.size(), techniques * 7);
+  for (const ShadowStressRow& row : rows) {
+    EXPECT_TRUE(row.ok()) << row.json();
+    EXPECT_EQ(row.receivers, 48u * 48u);
+    EXPECT_GE(row.bleed, 0.0);
+    EXPECT_LE(row.bleed, 1.0);
+    // The depth-range cases have a clear umbra under the low occluder: no technique leaks there,
+    // however far the near plane is from the receivers.
+    if (row.name == "depth range") {
+      EXPECT_GT(row.umbra, 100u) << row.json();
+      EXPECT_LT(row.bleed, 0.05) << row.json();
+    }
+    if (row.name == "bleeding") {
+      EXPECT_GT(row.umbra, 10u) << row.json();
+    }
+  }
 }
 
 }  // namespace

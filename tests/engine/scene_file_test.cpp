@@ -188,6 +188,30 @@ TEST_F(SceneFile, CameraLightsAmbientBackground) {
   expectVec(s.background, {0, 0, 0});
 }
 
+TEST_F(SceneFile, AreaLight) {
+  const Scene s = parse({{"lights",
+                          {{{"type", "area"}, {"center", {1, 5, 2}}, {"normal", {0, -3, 0}}, {"width_axis", {0, 0, 2}},
+                            {"width", 2}, {"height", 0.5}, {"color", {1, 0.5, 0.25}}, {"intensity", 12}},
+                           {{"type", "area"}, {"center", {0, 3, 0}}, {"normal", {1, -1, 0}}}}}});
+  ASSERT_EQ(s.areaLights.size(), 2u);
+  const shadows::RectLight& l = s.areaLights[0];
+  expectVec(l.center, {1, 5, 2});
+  expectVec(l.normal(), {0, -1, 0});
+  expectVec(l.right, {0, 0, 1});
+  EXPECT_EQ(l.width, 2.0f);
+  EXPECT_EQ(l.height, 0.5f);
+  expectVec(l.color, {1, 0.5f, 0.25f});
+  EXPECT_EQ(l.intensity, 12.0f);
+  // Defaults: 1 x 1, white, intensity 1; the width axis is x projected onto the light's plane.
+  const shadows::RectLight& d = s.areaLights[1];
+  EXPECT_EQ(d.width, 1.0f);
+  EXPECT_EQ(d.height, 1.0f);
+  EXPECT_EQ(d.intensity, 1.0f);
+  EXPECT_NEAR(glm::dot(d.right, d.normal()), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(d.right), 1.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(d.normal() - glm::normalize(glm::vec3(1, -1, 0))), 0.0f, 1e-6f);
+}
+
 TEST_F(SceneFile, RelativeGltfReferenceWithTransform) {
   write("models/tri.gltf", triangleGltf());
   const std::string scene = write("scenes/main.json", json({{"gltf", {{{"file", "../models/tri.gltf"}, {"transform", {{"translate", {0, 1, 0}}, {"scale", 2}}}}}},
@@ -263,7 +287,14 @@ TEST_F(SceneFile, BadValuesNameTheirJsonPath) {
   error(json({{"camera", {{"eye", {1, 1, 1}}, {"target", {1, 1, 1}}}}}), "camera.target must differ from eye");
   error(json({{"camera", {{"eye", {0, 5, 0}}, {"target", {0, 0, 0}}}}}), "camera.up must not be parallel");
   error(json({{"camera", {{"near", 10}, {"far", 1}}}}), "camera.far must be > near");
-  error(json({{"lights", {{{"type", "spot"}}}}}), "lights[0].type must be 'directional' or 'point'");
+  error(json({{"lights", {{{"type", "spot"}}}}}), "lights[0].type must be 'directional', 'point' or 'area'");
+  error(json({{"lights", {{{"type", "area"}, {"center", {0, 4, 0}}}}}}), "lights[0].normal is required");
+  error(json({{"lights", {{{"type", "area"}, {"center", {0, 4, 0}}, {"normal", {0, -1, 0}}, {"width", 0}}}}}),
+        "lights[0].width must be > 0");
+  error(json({{"lights", {{{"type", "area"}, {"center", {0, 4, 0}}, {"normal", {0, -1, 0}}, {"height", -2}}}}}),
+        "lights[0].height must be > 0");
+  error(json({{"lights", {{{"type", "area"}, {"center", {0, 4, 0}}, {"normal", {0, -1, 0}}, {"radius", 2}}}}}),
+        "radius");
   error(json({{"lights", {{{"type", "directional"}, {"direction", {0, 0, 0}}}}}}), "lights[0].direction must not be a zero vector");
   error(json({{"lights", {{{"type", "directional"}}}}}), "lights[0].direction is required");
   error(json({{"lights", {{{"type", "point"}, {"position", {0, 0, 0}}, {"intensity", -1}}}}}), "lights[0].intensity must be >= 0");

@@ -1,0 +1,239 @@
+// `penumbra bench shadows`: every scene x technique x parameter setting, timed per stage (medians
+// over runs) and compared with the ray-traced ground truth; a report (JSON, CSV, HTML with images,
+// error heat maps and a Pareto plot per scene) in the output folder.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+
+#include "apps/cli.h"
+#include "apps/commands.h"
+#include "engine/bench_report.h"
+#include "engine/builtin_scenes.h"
+#include "engine/image_io.h"
+#include "engine/metrics.h"
+#include "engine/renderer.h"
+#include "engine/scene_file.h"
+
+namespace penumbra::apps {
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
+}
+
+// Receivers the light can reach (valid, in front, part of the light above their horizon): where V
+// is compared.
+raster::Image<uint8_t> comparisonMask(const engine::Frame& frame, const shadows::RectLight& light) {
+  raster::Image<uint8_t> mask(frame.gbuffer.width(), frame.gbuffer.height(), 0);
+  for (int y = 0; y < mask.height(); ++y)
+    for (int x = 0; x < mask.width(); ++x) {
+      const engine::GBufferTexel& g = frame.gbuffer.at(x, y);
+      mask.at(x, y) = g.material >= 0 && shadows::irradianceFactor(light, g.position, g.normal) > 0.0f ? 1 : 0;
+    }
+  return mask;
+}
+
+std::string safeName(std::string s) {
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
+  return s;
+}
+
+struct Timed {
+  engine::Frame frame;
+  double msMaps = 0, msFilter = 0, msEvaluate = 0, msPrepare = 0, msTotal = 0;
+};
+
+// Renders `runs` times; stage times are medians, the frame is the last run's (they are identical:
+// rendering is deterministic).
+Timed timedRender(engine::Renderer& renderer, const engine::Scene& scene, const engine::RenderOptions& options,
+                  int runs) {
+  std::vector<double> maps, filter, eval, prep, total;
+  Timed t;
+  for (int r = 0; r < runs; ++r) {
+    t.frame = renderer.render(scene, options);
+    const engine::LightShadowStats& s = t.frame.stats.shadows.at(0);
+    maps.push_back(s.times.msMaps);
+    filter.push_back(s.times.msFilter);
+    eval.push_back(s.times.msEvaluate);
+    prep.push_back(s.times.prepare());
+    total.push_back(s.times.total());
+  }
+  t.msMaps = median(maps);
+  t.msFilter = median(filter);
+  t.msEvaluate = median(eval);
+  t.msPrepare = median(prep);
+  t.msTotal = median(total);
+  return t;
+}
+
+}  // namespace
+
+int runBenchShadows(const BenchShadowsArgs& a) {
+  // Validate everything before any work.
+  if (a.width < 16 || a.width > 4096 || a.height < 16 || a.height > 4096)
+    fail("option --width/--height", "must be in [16, 4096]");
+  if (a.runs < 1 || a.runs > 100) fail("option --runs", "must be in [1, 100]");
+  if (a.gtSamples < 1 || a.gtSamples > 65536) fail("option --gt-samples", "must be in [1, 65536]");
+  if (a.threads < 0 || a.threads > 1024) fail("option --threads", "must be in [0, 1024]");
+  std::vector<std::string> sceneNames = a.scenes;
+  if (sceneNames.empty()) sceneNames = {"contact", "fusion", "thin", "complex", "biglight"};
+  std::vector<std::pair<std::string, engine::Scene>> scenes;
+  for (const std::string& name : sceneNames) {
+    const bool isFile = name.find('.') != std::string::npos || name.find('/') != std::string::npos;
+    engine::Result<engine::Scene> s = isFile ? engine::loadScene(name) : engine::makeBuiltinScene(name);
+    if (!s) fail(s.error());
+    if (s->areaLights.empty()) fail(name, "the scene has no area light to benchmark");
+    scenes.emplace_back(isFile ? std::filesystem::path(name).stem().string() : name, std::move(*s));
+  }
+  // (technique, parameter list) pairs: the registry's bench settings, or the ones asked for.
+  std::vector<std::pair<const shadows::TechniqueInfo*, std::string>> runs;
+  for (const shadows::TechniqueInfo& t : shadows::registry()) {
+    if (t.isReference) continue;
+    if (!a.techniques.empty() && std::find(a.techniques.begin(), a.techniques.end(), t.name) == a.techniques.end())
+      continue;
+    for (const std::string& setting : t.benchSettings) runs.emplace_back(&t, setting);
+  }
+  for (const std::string& name : a.techniques) {
+    const shadows::TechniqueInfo* t = shadows::findTechnique(name);
+    if (!t) fail("option --technique", "unknown technique '" + name + "' (valid: " + shadows::techniqueNames() + ")");
+    if (t->isReference) fail("option --technique", "'" + name + "' is the ground truth every technique is measured against");
+  }
+  for (const std::string& setting : a.settings) {  // "name:k=v,k=v"
+    const size_t colon = setting.find(':');
+    const shadows::TechniqueInfo* t = shadows::findTechnique(setting.substr(0, colon));
+    if (!t || t->isReference)
+      fail("option --setting", "expected technique:name=value,..., with a technique of: " + shadows::techniqueNames());
+    const std::string params = colon == std::string::npos ? "" : setting.substr(colon + 1);
+    shadows::ParamSet check(t->params);
+    if (auto err = check.setAll(params)) fail("option --setting", *err);
+    runs.emplace_back(t, params);
+  }
+  if (!a.settings.empty() && a.techniques.empty()) {  // only the settings asked for
+    runs.erase(runs.begin(), runs.end() - static_cast<std::ptrdiff_t>(a.settings.size()));
+  }
+  if (runs.empty()) fail("bench shadows", "no technique to run");
+  const std::filesystem::path out(a.out);
+  std::error_code ec;
+  std::filesystem::create_directories(out / "images", ec);
+  if (ec) fail(a.out, "cannot create the report folder: " + ec.message());
+  const std::string cache = a.cache.empty() ? (out / "gt-cache").string() : a.cache;
+
+  allowThreads(a.threads);
+  engine::Renderer renderer(a.threads);
+  Progress progress("bench shadows");
+  const int steps = static_cast<int>(scenes.size() * (runs.size() + 2));
+  int step = 0;
+  std::vector<engine::ShadowBenchScene> reportScenes;
+  std::vector<engine::ShadowBenchRow> rows;
+  std::vector<std::string> cullingLines;
+  for (const auto& [name, scene] : scenes) {
+    engine::RenderOptions base;
+    base.width = a.width;
+    base.height = a.height;
+    base.cacheDir = cache;
+    // Ground truth.
+    progress.step(++step, steps, name + ": ground truth, " + std::to_string(a.gtSamples) + " rays per pixel");
+    engine::RenderOptions refOpt = base;
+    refOpt.shadow = "reference";
+    refOpt.shadowParams = "samples=" + std::to_string(a.gtSamples);
+    const engine::Frame ref = renderer.render(scene, refOpt);
+    const raster::Image<uint8_t> mask = comparisonMask(ref, scene.areaLights[0]);
+    engine::ShadowBenchScene rs;
+    rs.name = name;
+    for (const engine::BuiltinInfo& b : engine::builtinScenes())
+      if (b.name == name) rs.description = b.description;
+    rs.width = a.width;
+    rs.height = a.height;
+    rs.referenceImage = "images/" + safeName(name) + "-reference.png";
+    const engine::LightShadowStats& refStats = ref.stats.shadows.at(0);
+    for (const std::string& n : refStats.notes) rs.referenceNote += (rs.referenceNote.empty() ? "" : "; ") + n;
+    if (engine::Status st = engine::writeImage((out / rs.referenceImage).string(), ref.color); !st) fail(st.error());
+    if (engine::Status st = engine::writeImage((out / ("images/" + safeName(name) + "-reference-v.png")).string(),
+                                               engine::visibilityImage(ref.visibility.at(0)));
+        !st)
+      fail(st.error());
+    reportScenes.push_back(rs);
+
+    for (const auto& [info, params] : runs) {
+      progress.step(++step, steps, name + ": " + info->name + (params.empty() ? "" : " " + params));
+      engine::RenderOptions opt = base;
+      opt.shadow = info->name;
+      opt.shadowParams = params;
+      const Timed t = timedRender(renderer, scene, opt, a.runs);
+      const engine::VisibilityError e = engine::compareVisibility(t.frame.visibility.at(0), ref.visibility.at(0), mask);
+      engine::ShadowBenchRow row;
+      row.scene = name;
+      row.technique = info->name;
+      shadows::ParamSet ps(info->params);
+      ps.setAll(params);
+      row.params = ps.changed();
+      for (const shadows::ParamSpec& spec : info->params)
+        if (spec.name == "views") row.views = ps.integer("views");
+      row.msMaps = t.msMaps;
+      row.msFilter = t.msFilter;
+      row.msPrepare = t.msPrepare;
+      row.msEvaluate = t.msEvaluate;
+      row.msTotal = t.msTotal;
+      row.rmseV = e.rmse;
+      row.maxErrV = e.maxErr;
+      row.fracErrGt005 = e.fracOver005;
+      row.rmseImage = engine::imageRmse(t.frame.color, ref.color);
+      const std::string stem = "images/" + safeName(name + "-" + info->name + (params.empty() ? "" : "-" + params));
+      row.image = stem + ".png";
+      row.heatMap = stem + "-err.png";
+      if (engine::Status st = engine::writeImage((out / row.image).string(), t.frame.color); !st) fail(st.error());
+      if (engine::Status st = engine::writeImage((out / row.heatMap).string(),
+                                                 engine::errorHeatMap(t.frame.visibility.at(0), ref.visibility.at(0), mask));
+          !st)
+        fail(st.error());
+      rows.push_back(row);
+      if (a.json) {
+        std::printf("%s\n", engine::toJson(row).c_str());
+      } else {
+        std::printf("%-9s %-6s %-40s maps %8.2f filter %7.2f eval %8.2f total %8.2f ms  rmse_v %.4f max %.3f >0.05 %5.1f%%  "
+                    "rmse_img %.4f\n",
+                    name.c_str(), info->name.c_str(), row.params.empty() ? "(defaults)" : row.params.c_str(), row.msMaps,
+                    row.msFilter, row.msEvaluate, row.msTotal, row.rmseV, row.maxErrV, 100.0 * row.fracErrGt005,
+                    row.rmseImage);
+      }
+      std::fflush(stdout);
+    }
+
+    // What skipping saves: the first setting again with caster culling off (same views).
+    progress.step(++step, steps, name + ": caster culling off");
+    {
+      engine::RenderOptions on = base, off = base;
+      on.shadow = off.shadow = runs[0].first->name;
+      on.shadowParams = off.shadowParams = runs[0].second;
+      off.shadowCulling = false;
+      const Timed tOn = timedRender(renderer, scene, on, a.runs), tOff = timedRender(renderer, scene, off, a.runs);
+      const engine::LightShadowStats& s = tOn.frame.stats.shadows.at(0);
+      const engine::VisibilityError d = engine::compareVisibility(tOn.frame.visibility.at(0), tOff.frame.visibility.at(0), mask);
+      char buf[400];
+      std::snprintf(buf, sizeof buf,
+                    "%s: %s %s: culling kept %zu of %zu triangles (%zu instances culled whole): %.2f ms, without culling "
+                    "%.2f ms; V max difference %.3g, %.3f%% of receivers off by more than 0.05",
+                    name.c_str(), runs[0].first->name.c_str(), runs[0].second.c_str(), s.trianglesFlattened - s.trianglesCulled,
+                    scene.triangleCount(), s.instancesCulled, tOn.msTotal, tOff.msTotal, d.maxErr,
+                    100.0 * d.fracOver005);
+      cullingLines.push_back(buf);
+      if (!a.json) std::printf("%s\n", buf);
+    }
+  }
+  progress.done();
+  std::string machine = std::to_string(renderer.rasterizer().threads()) + " threads, " + std::to_string(a.width) + "x" +
+                        std::to_string(a.height) + ", medians of " + std::to_string(a.runs) + " runs; ground truth " +
+                        std::to_string(a.gtSamples) + " rays per receiver.";
+  for (const std::string& l : cullingLines) machine += " " + l + ".";
+  if (engine::Status st = engine::writeShadowReport(out.string(), reportScenes, rows, "penumbra bench shadows", machine); !st)
+    fail(st.error());
+  if (!a.json) std::printf("wrote %s/index.html\n", out.string().c_str());
+  return 0;
+}
+
+}  // namespace penumbra::apps

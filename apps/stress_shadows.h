@@ -1,0 +1,29 @@
+// The shadows stress suite of `penumbra stress --suite shadows`: every technique of the registry on
+// numerically hard configurations -- depth ranges (far / near) up to 1e6, receivers 1e-4 below
+// their occluder, overlapping occluders at very different depths (the light-bleeding case of the
+// moment techniques). Judged: no NaN or Inf and V in [0, 1]. Reported: the light bleeding (largest V
+// where the receiver is in full umbra) and the over-darkening (smallest V where it is fully lit).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "raster/pipeline.h"
+
+namespace penumbra::apps {
+
+struct ShadowStressRow {
+  std::string technique, name, param;
+  size_t receivers = 0;
+  size_t umbra = 0, lit = 0;  // receivers classified as in full umbra / fully lit (analytically)
+  size_t nonFinite = 0;      // NaN or Inf values of V
+  size_t outOfRange = 0;     // V outside [0, 1]
+  double bleed = 0;          // max V over receivers in full umbra (0 is right)
+  double darkening = 0;      // 1 - min V over fully lit receivers (0 is right)
+  bool ok() const { return nonFinite == 0 && outOfRange == 0; }
+  std::string json() const;
+};
+
+std::vector<ShadowStressRow> runShadowStress(raster::Rasterizer& rast);
+
+}  // namespace penumbra::apps
