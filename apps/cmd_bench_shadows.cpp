@@ -117,6 +117,24 @@ int runBenchShadows(const BenchShadowsArgs& a) {
     runs.erase(runs.begin(), runs.end() - static_cast<std::ptrdiff_t>(a.settings.size()));
   }
   if (runs.empty()) fail("bench shadows", "no technique to run");
+  // One run per distinct (technique, effective parameters): image names must not collide.
+  {
+    std::vector<std::pair<const shadows::TechniqueInfo*, std::string>> unique;
+    std::vector<std::string> seen;
+    for (const auto& [info, params] : runs) {
+      shadows::ParamSet ps(info->params);
+      ps.setAll(params);
+      const std::string key = info->name + ":" + ps.changed();
+      if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+      seen.push_back(key);
+      unique.emplace_back(info, params);
+    }
+    runs = std::move(unique);
+  }
+  for (size_t i = 0; i < scenes.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (scenes[i].first == scenes[j].first)
+        fail("option --scene", "two scenes are named '" + scenes[i].first + "' (their images would collide)");
   const std::filesystem::path out(a.out);
   std::error_code ec;
   std::filesystem::create_directories(out / "images", ec);

@@ -118,7 +118,9 @@ std::vector<ShadowStressRow> runShadowStress(raster::Rasterizer& rast) {
       const float b = 0.01f * delta;
       s.rects = {{-1e3f, 0.0f, -1e3f, 1e3f, 0.5f}, {-b, b, -b, b, h - delta}};
       char p[64];
-      std::snprintf(p, sizeof p, "h %g, far/near %.0e", static_cast<double>(h), static_cast<double>(h / delta));
+      // far / near as the views use it: the near plane is clamped at 1e-5 of the farthest receiver.
+      const double nearPlane = std::max(0.99 * static_cast<double>(delta), 1e-5 * static_cast<double>(h));
+      std::snprintf(p, sizeof p, "h %g, far/near %.0e", static_cast<double>(h), static_cast<double>(h) / nearPlane);
       rows.push_back(runCase(rast, t, "depth range", p, s));
     }
     // Contact: receivers 1e-4 below the occluder (and a lit half beside it).

@@ -1,5 +1,6 @@
 // The shadows stress suite of `penumbra stress --suite shadows`: every technique of the registry on
-// numerically hard configurations -- depth ranges (far / near) up to 1e6, receivers 1e-4 below
+// numerically hard configurations -- depth ranges (far / near) up to 1e5 (the views clamp near at
+// 1e-5 of far), receivers 1e-4 below
 // their occluder, overlapping occluders at very different depths (the light-bleeding case of the
 // moment techniques). Judged: no NaN or Inf and V in [0, 1]. Reported: the light bleeding (largest V
 // where the receiver is in full umbra) and the over-darkening (smallest V where it is fully lit).

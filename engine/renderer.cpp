@@ -123,11 +123,13 @@ std::string FrameStats::report() const {
     const LightShadowStats& l = shadows[i];
     std::snprintf(buf, sizeof buf,
                   "  area light %zu: %s%s%s: %.2f ms (flatten %.2f, fit %.2f, maps %.2f, filter %.2f, evaluate %.2f)\n"
-                  "    receivers in front %zu, behind the light %zu; instances culled by the light's region %zu; "
-                  "triangles flattened %zu, culled per triangle %zu, kept %zu\n",
+                  "    receivers in front %zu (beyond the views' 84-degree limit %zu), behind the light %zu; "
+                  "instances culled by the light's region %zu; triangles flattened %zu, culled per triangle %zu, "
+                  "kept %zu\n",
                   i, l.technique.c_str(), l.params.empty() ? "" : " ", l.params.c_str(),
                   l.msFlatten + l.msFit + l.times.total(), l.msFlatten, l.msFit, l.times.msMaps, l.times.msFilter,
-                  l.times.msEvaluate, l.receivers, l.receiversBehind, l.instancesCulled, l.trianglesFlattened,
+                  l.times.msEvaluate, l.receivers, l.receiversOutside, l.receiversBehind, l.instancesCulled,
+                  l.trianglesFlattened,
                   l.trianglesCulled, l.trianglesFlattened - l.trianglesCulled);
     s += buf;
     if (l.skipped) s += "    skipped: no shadow pass (" + l.skipReason + "); V = 1 in front of the light\n";
@@ -156,6 +158,7 @@ raster::ImageFloat shadowVisibility(raster::Rasterizer& raster, const Scene& sce
   raster.run([&] { region = shadows::fitRegion(light, rec); });
   st.receivers = region.receivers;
   st.receiversBehind = region.receiversBehind;
+  st.receiversOutside = region.receiversOutside;
   // Instances that may shadow a receiver, flattened to world space.
   std::vector<glm::vec3> positions;
   std::vector<uint32_t> indices;

@@ -47,7 +47,7 @@ struct LightShadowStats {
   size_t instancesCulled = 0;        // whole instances outside the light's region, before flattening
   size_t trianglesFlattened = 0;     // world-space triangles handed to shadows/
   size_t trianglesCulled = 0;        // of those, outside the region (per triangle)
-  size_t receivers = 0, receiversBehind = 0;
+  size_t receivers = 0, receiversBehind = 0, receiversOutside = 0;
   bool skipped = false;
   std::string skipReason;
   shadows::StageTimes times;

@@ -1,6 +1,7 @@
 #include "shadows/ground_truth.h"
 
 #include <embree3/rtcore.h>
+#include <unistd.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -12,7 +13,8 @@
 #include <cstring>
 #include <fstream>
 #include <glm/geometric.hpp>
-#include <random>
+#include <functional>
+#include <thread>
 #include <stdexcept>
 #include <system_error>
 #include <vector>
@@ -267,7 +269,10 @@ SampleGrid sampleGrid(const RectLight& light, int samples) {
 
 RayScene::RayScene(const Geometry& casters) {
   device_ = rtcNewDevice(nullptr);
-  if (!device_) checkEmbree(nullptr, "rtcNewDevice");
+  if (!device_) {
+    checkEmbree(nullptr, "rtcNewDevice");
+    throw std::runtime_error("embree: rtcNewDevice returned no device");
+  }
   try {
     const ssize_t native16 = rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED);
     const ssize_t native8 = rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED);
@@ -312,7 +317,10 @@ RayScene::RayScene(const Geometry& casters) {
     triangles_ = indices.size() / 3;
     if (triangles_ > 0) {
       RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      checkEmbree(device_, "rtcNewGeometry");
+      if (const RTCError e = rtcGetDeviceError(device_); e != RTC_ERROR_NONE || !geom) {
+        if (geom) rtcReleaseGeometry(geom);
+        throw std::runtime_error(std::string("embree: rtcNewGeometry failed: ") + errorName(e));
+      }
       // Buffers Embree allocates itself are padded so that the last vertex can be read with a
       // 16-byte load.
       auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
@@ -332,7 +340,7 @@ RayScene::RayScene(const Geometry& casters) {
       std::copy(indices.begin(), indices.end(), ib);
       rtcCommitGeometry(geom);
       rtcAttachGeometry(scene_, geom);
-      rtcReleaseGeometry(geom);  // the scene holds it
+      rtcReleaseGeometry(geom);  // the scene holds it (or, on failure, nothing does: released)
       checkEmbree(device_, "adding the caster triangles");
     }
     rtcCommitScene(scene_);  // builds the BVH with TBB in the caller's arena
@@ -357,7 +365,6 @@ uint64_t traceVisibility(const RayScene& scene, const ReceiverImage& receivers, 
   out.resize(w, h);
   const glm::vec3 c = light.center, ln = light.normal();
   const int width = force1 ? 1 : scene.packetWidth();
-  const float inv = 1.0f / static_cast<float>(grid.count());
   std::vector<uint64_t> rowRays(static_cast<size_t>(h), 0);
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y) {
@@ -384,7 +391,7 @@ uint64_t traceVisibility(const RayScene& scene, const ReceiverImage& receivers, 
                 lit = litSingle(scene.handle(), rr, light, px, py, grid);
                 break;
             }
-            v = static_cast<float>(lit) * inv;
+            v = static_cast<float>(lit) / static_cast<float>(grid.count());  // exactly 1 when all lit
             rowRays[static_cast<size_t>(y)] += static_cast<uint64_t>(grid.count());
           }
         }
@@ -503,8 +510,10 @@ std::optional<std::string> writeGroundTruthCache(const std::filesystem::path& fi
   encodeHeader(hd, head);
   // A name no other writer uses (several processes may fill the same cache), hidden from readers,
   // which look for gt-<key>.bin only.
-  std::random_device rd;
-  const uint64_t tag = (uint64_t{rd()} << 32) ^ rd();
+  // Process id, thread and time: unique enough, and nothing here can throw.
+  const uint64_t tag = mix64(static_cast<uint64_t>(::getpid()) ^
+                             (static_cast<uint64_t>(std::hash<std::thread::id>{}(std::this_thread::get_id())) << 20) ^
+                             static_cast<uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count()));
   std::string tmpName = file.filename().string();
   tmpName.insert(tmpName.begin(), '.');
   tmpName += '.';

@@ -11,7 +11,7 @@ namespace penumbra::shadows {
 namespace {
 
 struct Scan {
-  size_t front = 0, behind = 0;
+  size_t front = 0, behind = 0, outside = 0;
   glm::vec3 lo{std::numeric_limits<float>::max()}, hi{-std::numeric_limits<float>::max()};
 };
 
@@ -32,6 +32,7 @@ LightRegion fitRegion(const RectLight& light, const ReceiverImage& receivers) {
               continue;
             }
             ++acc.front;
+            if (std::abs(p.x) > kMaxTan * p.z || std::abs(p.y) > kMaxTan * p.z) ++acc.outside;
             acc.lo = glm::min(acc.lo, p);
             acc.hi = glm::max(acc.hi, p);
           }
@@ -40,6 +41,7 @@ LightRegion fitRegion(const RectLight& light, const ReceiverImage& receivers) {
       [](Scan a, const Scan& b) {
         a.front += b.front;
         a.behind += b.behind;
+        a.outside += b.outside;
         a.lo = glm::min(a.lo, b.lo);
         a.hi = glm::max(a.hi, b.hi);
         return a;
@@ -47,6 +49,7 @@ LightRegion fitRegion(const RectLight& light, const ReceiverImage& receivers) {
   LightRegion r;
   r.receivers = s.front;
   r.receiversBehind = s.behind;
+  r.receiversOutside = s.outside;
   if (s.front == 0) return r;
   r.empty = false;
   r.lo = s.lo;
@@ -79,6 +82,43 @@ unsigned outsideMask(const LightRegion& r, float hw, float hh, glm::vec3 p) {
   return m;
 }
 
+// The smallest depth of the part of triangle p (light space) inside the region: the triangle
+// clipped by the region's planes (Sutherland-Hodgman; a triangle crossing the light plane beside
+// the light has no part near depth 0 inside the region, one crossing the light itself has). 0 when
+// the part reaches the light plane.
+float minDepthInRegion(const LightRegion& r, float hw, float hh, const glm::vec3 p[3]) {
+  if (outsideMask(r, hw, hh, p[0]) == 0 && outsideMask(r, hw, hh, p[1]) == 0 && outsideMask(r, hw, hh, p[2]) == 0)
+    return std::min({p[0].z, p[1].z, p[2].z});
+  // Planes as f(q) >= 0.
+  auto plane = [&](int k, glm::vec3 q) {
+    switch (k) {
+      case 0: return q.z;
+      case 1: return r.hi.z - q.z;
+      case 2: return hw + q.z * r.sxHi - q.x;
+      case 3: return q.x + hw - q.z * r.sxLo;
+      case 4: return hh + q.z * r.syHi - q.y;
+      default: return q.y + hh - q.z * r.syLo;
+    }
+  };
+  glm::vec3 a[12], b[12];
+  int n = 3;
+  for (int i = 0; i < 3; ++i) a[i] = p[i];
+  for (int k = 0; k < 6 && n > 0; ++k) {
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      const glm::vec3 u = a[i], v = a[(i + 1) % n];
+      const float fu = plane(k, u), fv = plane(k, v);
+      if (fu >= 0.0f) b[m++] = u;
+      if ((fu >= 0.0f) != (fv >= 0.0f) && m < 12) b[m++] = u + (v - u) * (fu / (fu - fv));
+    }
+    n = m;
+    for (int i = 0; i < n; ++i) a[i] = b[i];
+  }
+  float d = std::numeric_limits<float>::max();
+  for (int i = 0; i < n; ++i) d = std::min(d, std::max(a[i].z, 0.0f));
+  return d;
+}
+
 }  // namespace
 
 bool LightRegion::mayShadow(const RectLight& light, const glm::vec3 worldCorners[8]) const {
@@ -88,7 +128,8 @@ bool LightRegion::mayShadow(const RectLight& light, const glm::vec3 worldCorners
   return all == 0;
 }
 
-CasterSet cullCasters(const RectLight& light, const LightRegion& region, const Geometry& geometry) {
+CasterSet cullCasters(const RectLight& light, const LightRegion& region, const Geometry& geometry,
+                      const ReceiverImage* receivers) {
   CasterSet out;
   out.trianglesIn = geometry.triangles();
   out.minDepth = std::numeric_limits<float>::max();
@@ -107,18 +148,55 @@ CasterSet cullCasters(const RectLight& light, const LightRegion& region, const G
                      (c & 4) ? region.hi.z : region.lo.z};
   const float eps = 1e-5f * std::max({region.hi.x - region.lo.x, region.hi.y - region.lo.y, region.hi.z - region.lo.z,
                                       light.width, light.height});
+  // When the box is too coarse (a light tilted against the ground), large triangles are tested
+  // against every receiver: at most kMaxPlaneScans scans, and consecutive coplanar triangles (a
+  // tessellated ground) reuse the last scan's answer. "Large": twice the area at least 1e-3 of the
+  // receivers' box face.
+  constexpr int kMaxPlaneScans = 64;
+  int scans = 0;
+  std::vector<glm::vec3> recPoints;  // light space, receivers in front; filled on first use
+  glm::vec3 lastU(0.0f);
+  float lastOffset = 0.0f;
+  bool lastAnswer = false, haveLast = false;
+  const float largeArea = 1e-3f * std::max((region.hi.x - region.lo.x) * (region.hi.y - region.lo.y), eps * eps);
   auto cannotBlock = [&](const glm::vec3 p[3]) {
     const glm::vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
     const float len = glm::length(n);
     if (!(len > 0.0f)) return false;
-    const glm::vec3 u = n / len;
-    const float s = glm::dot(u, lightCorners[0] - p[0]);
-    const float sign = s > 0.0f ? 1.0f : -1.0f;
+    glm::vec3 u = n / len;
+    if (glm::dot(u, lightCorners[0] - p[0]) < 0.0f) u = -u;  // the light on the positive side
     for (const glm::vec3& q : lightCorners)
-      if (!(sign * glm::dot(u, q - p[0]) > eps)) return false;
-    for (const glm::vec3& q : recCorners)
-      if (!(sign * glm::dot(u, q - p[0]) >= -eps)) return false;
-    return true;
+      if (!(glm::dot(u, q - p[0]) > eps)) return false;
+    bool boxOk = true;
+    for (const glm::vec3& q : recCorners) boxOk = boxOk && glm::dot(u, q - p[0]) >= -eps;
+    if (boxOk) return true;
+    if (!receivers || !(len >= largeArea)) return false;
+    const float offset = glm::dot(u, p[0]);
+    if (haveLast && glm::length(u - lastU) < 1e-5f && std::abs(offset - lastOffset) < eps) return lastAnswer;
+    if (scans == kMaxPlaneScans) return false;
+    ++scans;
+    if (recPoints.empty()) {
+      for (int y = 0; y < receivers->height(); ++y)
+        for (int x = 0; x < receivers->width(); ++x) {
+          const Receiver& r = receivers->at(x, y);
+          if (!r.valid) continue;
+          const glm::vec3 q = toLightSpace(light, r.position);
+          if (q.z > 0.0f) recPoints.push_back(q);
+        }
+    }
+    // min over receivers of the signed distance; min is order-independent: deterministic.
+    const float minDist = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, recPoints.size(), 8192), std::numeric_limits<float>::max(),
+        [&](const tbb::blocked_range<size_t>& r, float m) {
+          for (size_t i = r.begin(); i != r.end(); ++i) m = std::min(m, glm::dot(u, recPoints[i]) - offset);
+          return m;
+        },
+        [](float a, float b) { return std::min(a, b); });
+    haveLast = true;
+    lastU = u;
+    lastOffset = offset;
+    lastAnswer = minDist >= -eps;
+    return lastAnswer;
   };
   // Sequential: the kept list must keep submission order, and this is a few ns per triangle.
   out.indices.reserve(geometry.indices.size());
@@ -136,10 +214,9 @@ CasterSet cullCasters(const RectLight& light, const LightRegion& region, const G
       continue;
     }
     out.indices.insert(out.indices.end(), tri, tri + 3);
-    for (const glm::vec3& q : p)
-      if (q.z > 0.0f) out.minDepth = std::min(out.minDepth, q.z);
+    out.minDepth = std::min(out.minDepth, minDepthInRegion(region, hw, hh, p));
   }
-  if (out.indices.empty()) out.minDepth = 0.0f;
+  if (out.indices.empty() || out.minDepth == std::numeric_limits<float>::max()) out.minDepth = 0.0f;
   return out;
 }
 

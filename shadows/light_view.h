@@ -10,12 +10,14 @@
 // LightView: a perspective view from a point on the light looking along the light normal (every
 // view of a light has the same axes, so maps from several light points are parallel), its
 // off-axis frustum fitted to the receivers' bounding box, limited to |tan| <= kMaxTan on each side
-// (receivers outside, within ~84 degrees of the light plane, are treated as lit and counted).
+// (receivers outside, within ~6 degrees of the light plane, read the map's edge texels; they are
+// counted in LightRegion::receiversOutside and --stats prints them).
 // Depth is reversed and infinite: clip z = near, w = depth along the axis, so the stored value
 // z/w = near / depth (1 at the near plane, towards 0 far away, DepthFunc::Greater, cleared to 0 =
 // nothing there): float keeps a uniform relative precision at every distance.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <glm/mat4x4.hpp>
@@ -56,6 +58,7 @@ struct LightRegion {
   bool empty = true;               // no receiver in front of the light
   size_t receivers = 0;            // valid receivers in front of the light
   size_t receiversBehind = 0;      // valid receivers behind the light plane (unlit)
+  size_t receiversOutside = 0;     // in front, but beyond |tan| = kMaxTan from the light centre
   glm::vec3 lo{0.0f}, hi{0.0f};    // light-space bounding box of the receivers in front (d > 0)
   // Side planes: x <= w/2 + d * sxHi, x >= -w/2 + d * sxLo (and y likewise); 0 < d <= hi.z.
   float sxLo = 0, sxHi = 0, syLo = 0, syHi = 0;
@@ -68,16 +71,20 @@ struct LightRegion {
 // Scans the receivers (tile-parallel in the caller's arena; deterministic).
 LightRegion fitRegion(const RectLight& light, const ReceiverImage& receivers);
 
-// Triangles of `geometry` that may shadow a receiver (their index triples, in order): those with a
-// vertex inside the region, less those whose plane has the light strictly on one side and every
-// receiver on that side (a ground under the scene cannot shadow what stands on it); and the
-// smallest light-space depth of a vertex of a kept triangle (clamped to > 0), for the near plane.
+// Triangles of `geometry` that may shadow a receiver (their index triples, in order): those not
+// entirely outside one of the region's planes, less those whose plane has the light strictly on
+// one side and every receiver on that side (a ground under the scene cannot shadow what stands on
+// it); and the smallest depth of the kept triangles' parts inside the region, for the near plane
+// (0 when one reaches the light itself: views then use their smallest near plane).
 struct CasterSet {
   std::vector<uint32_t> indices;
   size_t trianglesIn = 0, trianglesCulled = 0;
   float minDepth = 0.0f;
 };
-CasterSet cullCasters(const RectLight& light, const LightRegion& region, const Geometry& geometry);
+// With `receivers`, a large triangle whose plane the receivers' box cannot clear is tested against
+// every receiver (TBB in the caller's arena; at most 64 such scans per call).
+CasterSet cullCasters(const RectLight& light, const LightRegion& region, const Geometry& geometry,
+                      const ReceiverImage* receivers = nullptr);
 
 struct LightView {
   glm::vec3 origin{0.0f};           // world position (a point on the light)
@@ -98,8 +105,10 @@ struct LightView {
     return {(tx - tanLo.x) / (tanHi.x - tanLo.x) * static_cast<float>(width),
             (tanHi.y - ty) / (tanHi.y - tanLo.y) * static_cast<float>(height)};
   }
-  // World size of one texel (x extent) at view depth d.
-  float texelWorld(float d) const { return d * (tanHi.x - tanLo.x) / static_cast<float>(width); }
+  // World size of one texel at view depth d (the larger of its two sides).
+  float texelWorld(float d) const {
+    return d * std::max((tanHi.x - tanLo.x) / static_cast<float>(width), (tanHi.y - tanLo.y) / static_cast<float>(height));
+  }
   // Depth along the axis of a stored map value (0 = nothing: +inf).
   float depthOf(float stored) const { return stored > 0.0f ? znear / stored : INFINITY; }
 };

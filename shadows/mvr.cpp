@@ -101,9 +101,9 @@ class Mvr final : public Technique {
       ctx.times.msEvaluate += msSince(t2);
     }
     const auto t3 = Clock::now();
-    const float inv = 1.0f / static_cast<float>(points_.size());
+    const float n = static_cast<float>(points_.size());  // lit / n: exactly 1 when every view is lit
     forEachReceiver(
-        ctx, visibility, [&](int x, int y, const Receiver&) { return static_cast<float>(lit.at(x, y)) * inv; },
+        ctx, visibility, [&](int x, int y, const Receiver&) { return static_cast<float>(lit.at(x, y)) / n; },
         SelfShadow::Handled);
     ctx.times.msEvaluate += msSince(t3);
   }

@@ -148,8 +148,10 @@ ShadowResult computeShadows(raster::Rasterizer& raster, const ShadowInputs& in, 
   ShadowResult out;
   const auto t0 = Clock::now();
   ShadowContext ctx{.raster = raster, .in = in, .region = {}, .casters = {}, .times = {}, .notes = {}, .mapPasses = {}};
-  raster.run([&] { ctx.region = fitRegion(in.light, *in.receivers); });
-  ctx.casters = cullCasters(in.light, ctx.region, in.casters);
+  raster.run([&] {
+    ctx.region = fitRegion(in.light, *in.receivers);
+    ctx.casters = cullCasters(in.light, ctx.region, in.casters, in.receivers);
+  });
   if (!in.cullCasters && !ctx.region.empty) {  // same near plane, every triangle drawn
     ctx.casters.indices.assign(in.casters.indices.begin(), in.casters.indices.end());
     ctx.casters.trianglesCulled = 0;

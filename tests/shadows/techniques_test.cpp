@@ -127,6 +127,26 @@ TEST(Techniques, BehindTheLightIsUnlitAndNothingToDoIsSkipped) {
   EXPECT_EQ(r.visibility.at(40, 6), 1.0f);
 }
 
+TEST(Techniques, CastersCrossingTheLightPlaneAreNotClippedByTheNearPlane) {
+  // A wall x = 0.6 from below the receivers to above the light (beside it): it hides the light
+  // from receivers at x > 0.6 + margin, over depths from ~0 to the receivers. Its vertices in front
+  // of the light are all at depth 5; the near plane must still come from the part near the light.
+  ReceiverImage rec(32, 4);
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 32; ++i)
+      rec.at(i, j) = {{1.0f + 2.0f * static_cast<float>(i) / 32.0f, -1.0f, -0.2f + 0.1f * static_cast<float>(j)}, {0, 1, 0}, 1u};
+  const std::vector<glm::vec3> pos = {{0.6f, -1.0f, -10.0f}, {0.6f, 10.0f, -10.0f}, {0.6f, -1.0f, 10.0f}, {0.6f, 10.0f, 10.0f}};
+  const std::vector<uint32_t> idx = {0, 1, 2, 2, 1, 3};
+  ShadowInputs in;
+  makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, in.light);
+  in.casters = {pos, idx};
+  in.receivers = &rec;
+  for (const TechniqueInfo& t : registry()) {
+    const raster::ImageFloat v = run(t, in, 2, t.isReference ? "samples=64" : "");
+    for (int i = 0; i < 32; ++i) EXPECT_EQ(v.at(i, 1), 0.0f) << t.name << " at " << i;
+  }
+}
+
 TEST(Techniques, PcssMatchesTheAnalyticPenumbra) {
   // Its assumptions (one planar blocker parallel to the light and the receiver) hold here.
   EdgeCase c;
