@@ -5,8 +5,11 @@
 //   penumbra_microbench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
+#include <cmath>
 #include <cstdlib>
+#include <glm/gtc/matrix_transform.hpp>
 #include <random>
 
 #include "apps/workloads.h"
@@ -14,6 +17,7 @@
 #include "raster/kernels.h"
 #include "raster/pipeline.h"
 #include "raster/setup.h"
+#include "raster/splat.h"
 
 namespace {
 
@@ -103,6 +107,48 @@ void BM_Workload(benchmark::State& state) {
 }
 BENCHMARK(BM_Workload<true>)->Name("W1")->ArgsProduct({{1000000, 4000000}, {1, 2, 4, 8, 16}})->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_Workload<false>)->Name("W2")->ArgsProduct({{1000000, 4000000}, {1, 2, 4, 8, 16}})->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// Point splatting (raster/splat.h), the paper's fully parallel mode (K = M): 1M points of a wavy
+// 1000 x 1000 height field over [-1, 1]^2, in scan order as a rasterizer would emit them, into M
+// 512 x 512 views from sample points of a 0.5 x 0.5 area light 2 above it, looking down. Targets
+// are cleared outside the timed region. args: views, threads (0 = all). Items = point-view pairs.
+void BM_SplatPoints(benchmark::State& state) {
+  const int views = static_cast<int>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  constexpr int kGrid = 1000, kSize = 512;
+  std::vector<glm::vec3> points;
+  points.reserve(kGrid * kGrid);
+  for (int j = 0; j < kGrid; ++j)
+    for (int i = 0; i < kGrid; ++i) {
+      const float x = -1.0f + 2.0f * (static_cast<float>(i) + 0.5f) / kGrid;
+      const float y = -1.0f + 2.0f * (static_cast<float>(j) + 0.5f) / kGrid;
+      points.emplace_back(x, y, 0.1f * std::sin(7.0f * x) * std::cos(5.0f * y));
+    }
+  std::vector<raster::Image<uint64_t>> targets(static_cast<size_t>(views));
+  std::vector<raster::SplatView> splatViews;
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> u(-0.25f, 0.25f);
+  for (int v = 0; v < views; ++v) {
+    const glm::vec3 eye(u(rng), u(rng), 2.0f);
+    const glm::mat4 vp = glm::perspectiveRH_ZO(glm::radians(70.0f), 1.0f, 0.5f, 4.0f) *
+                         glm::lookAtRH(eye, glm::vec3(0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+    targets[static_cast<size_t>(v)].resize(kSize, kSize);
+    splatViews.push_back({vp, &targets[static_cast<size_t>(v)]});
+  }
+  tbb::task_arena arena(threads == 0 ? tbb::task_arena::automatic : threads);
+  raster::SplatStats st;
+  for (auto _ : state) {
+    state.PauseTiming();
+    arena.execute([&] {
+      for (auto& t : targets) raster::clearKeys(t);
+    });
+    state.ResumeTiming();
+    arena.execute([&] { st = raster::splatPoints(points, {}, splatViews, raster::DepthKey::ZOverW, 0); });
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(points.size()) * views);
+  state.counters["written_frac"] = static_cast<double>(st.written) / static_cast<double>(st.points * st.views);
+}
+BENCHMARK(BM_SplatPoints)->ArgsProduct({{1, 8, 32, 128}, {1, 0}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
