@@ -220,28 +220,23 @@ CasterSet cullCasters(const RectLight& light, const LightRegion& region, const G
   return out;
 }
 
-LightView makeLightView(const RectLight& light, const LightRegion& region, glm::vec2 lightPoint, float znear,
-                        int width, int height) {
+namespace {
+
+// The view from `origin` along the light's normal whose frustum spans the tangent box [lo, hi]
+// (clamped to kMaxTan, with half a texel of margin on each side so points on the box's faces map
+// inside the image, and never an empty extent).
+LightView finishView(const RectLight& light, glm::vec3 origin, glm::vec2 lo, glm::vec2 hi, float znear, int width,
+                     int height) {
   LightView v;
   v.right = light.right;
   v.up = light.up;
   v.axis = light.normal();
-  v.origin = light.center + lightPoint.x * light.right + lightPoint.y * light.up;
+  v.origin = origin;
   v.znear = znear;
   v.width = width;
   v.height = height;
-  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (int c = 0; c < 8; ++c) {
-    const glm::vec3 p((c & 1) ? region.hi.x : region.lo.x, (c & 2) ? region.hi.y : region.lo.y,
-                      (c & 4) ? region.hi.z : region.lo.z);
-    const glm::vec2 t((p.x - lightPoint.x) / p.z, (p.y - lightPoint.y) / p.z);
-    lo = glm::min(lo, t);
-    hi = glm::max(hi, t);
-  }
   lo = glm::clamp(lo, glm::vec2(-kMaxTan), glm::vec2(kMaxTan));
   hi = glm::clamp(hi, glm::vec2(-kMaxTan), glm::vec2(kMaxTan));
-  // Half a texel of margin on each side so receivers on the box's faces map inside the image, and
-  // never an empty extent.
   const glm::vec2 ext = glm::max(hi - lo, glm::vec2(1e-6f));
   const glm::vec2 margin(ext.x / static_cast<float>(width), ext.y / static_cast<float>(height));
   v.tanLo = lo - margin;
@@ -264,6 +259,56 @@ LightView makeLightView(const RectLight& light, const LightRegion& region, glm::
   proj[2][3] = 1.0f;
   v.viewProj = proj * toView;
   return v;
+}
+
+glm::vec3 boxCorner(const LightRegion& r, int c) {
+  return {(c & 1) ? r.hi.x : r.lo.x, (c & 2) ? r.hi.y : r.lo.y, (c & 4) ? r.hi.z : r.lo.z};
+}
+
+}  // namespace
+
+LightView makeLightView(const RectLight& light, const LightRegion& region, glm::vec2 lightPoint, float znear,
+                        int width, int height) {
+  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec3 p = boxCorner(region, c);
+    const glm::vec2 t((p.x - lightPoint.x) / p.z, (p.y - lightPoint.y) / p.z);
+    lo = glm::min(lo, t);
+    hi = glm::max(hi, t);
+  }
+  return finishView(light, light.center + lightPoint.x * light.right + lightPoint.y * light.up, lo, hi, znear, width,
+                    height);
+}
+
+LightView makeContainingView(const RectLight& light, const LightRegion& region, const LightView& sample, float znear,
+                             int maxSize) {
+  // Eq. 1: back by D = max(w, h) / (2 tan(fov / 2)), the light samples' widest field of view.
+  const glm::vec2 sampleExt = sample.tanHi - sample.tanLo;
+  const float back = std::max(light.width, light.height) / std::max(std::max(sampleExt.x, sampleExt.y), 1e-6f);
+  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (int c = 0; c < 8; ++c) {  // the receivers
+    const glm::vec3 p = boxCorner(region, c);
+    const glm::vec2 t(p.x / (p.z + back), p.y / (p.z + back));
+    lo = glm::min(lo, t);
+    hi = glm::max(hi, t);
+  }
+  for (int c = 0; c < 4; ++c) {  // the light's corners, at depth D
+    const glm::vec2 t(((c & 1) ? 0.5f : -0.5f) * light.width / back, ((c & 2) ? 0.5f : -0.5f) * light.height / back);
+    lo = glm::min(lo, t);
+    hi = glm::max(hi, t);
+  }
+  // Eq. 3: the same world texel size as the samples' views at their near plane, per axis: a side of
+  // m (ext_source / ext_sample) (near + D) / near, at most maxSize.
+  const float grow = (znear + back) / znear;
+  auto side = [&](float extSource, float extSample, int m) {
+    const double s = std::ceil(static_cast<double>(m) * static_cast<double>(extSource / extSample) *
+                               static_cast<double>(grow));
+    return static_cast<int>(std::clamp(s, 16.0, static_cast<double>(maxSize)));
+  };
+  const glm::vec2 ext = glm::max(hi - lo, glm::vec2(1e-6f));
+  const int w = side(ext.x, sampleExt.x, sample.width), h = side(ext.y, sampleExt.y, sample.height);
+  // Its near plane is the light's plane (depth D): nothing behind the light is rasterized.
+  return finishView(light, light.center - back * light.normal(), lo, hi, back, w, h);
 }
 
 }  // namespace penumbra::shadows

@@ -80,6 +80,7 @@ struct CasterSet {
   std::vector<uint32_t> indices;
   size_t trianglesIn = 0, trianglesCulled = 0;
   float minDepth = 0.0f;
+  size_t trianglesKept() const { return indices.size() / 3; }
 };
 // With `receivers`, a large triangle whose plane the receivers' box cannot clear is tested against
 // every receiver (TBB in the caller's arena; at most 64 such scans per call).
@@ -118,5 +119,13 @@ struct LightView {
 // width x height texels. Its near plane is `znear` (> 0).
 LightView makeLightView(const RectLight& light, const LightRegion& region, glm::vec2 lightPoint, float znear,
                         int width, int height);
+
+// The source view of view-warped multi-view shadows (Marrs et al. 2018, section 3.1): from behind
+// the light's centre, moved back along the normal by D (Eq. 1, from `sample`'s field of view) so
+// that its frustum contains the whole light and every receiver, with its near plane on the light
+// (depth D), at the resolution that keeps `sample`'s texel size on surfaces at depth `znear` from
+// the light (Eq. 3, per axis, at most maxSize).
+LightView makeContainingView(const RectLight& light, const LightRegion& region, const LightView& sample, float znear,
+                             int maxSize);
 
 }  // namespace penumbra::shadows

@@ -6,18 +6,10 @@
 // counts as "maps", the per-map lookups as "evaluate". docs/techniques/mvr.md.
 #pragma once
 
-#include <glm/vec2.hpp>
-#include <vector>
-
 #include "shadows/technique.h"
 
 namespace penumbra::shadows {
 
 TechniqueInfo mvrTechnique();
-
-// Light-space points (world units from the centre along right and up) of n stratified samples on a
-// width x height light: Hammersley points over the rectangle. Shared by techniques that sample the
-// light with views (MVR, VWSS) so they compare on the same light samples.
-std::vector<glm::vec2> lightSamplePoints(const RectLight& light, int n);
 
 }  // namespace penumbra::shadows

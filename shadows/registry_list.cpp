@@ -8,12 +8,13 @@
 #include "shadows/pcf.h"
 #include "shadows/pcss.h"
 #include "shadows/vsm.h"
+#include "shadows/vwss.h"
 
 namespace penumbra::shadows {
 
 std::vector<TechniqueInfo> allTechniques() {
   return {hardTechnique(), pcfTechnique(), pcssTechnique(), vsmTechnique(), evsm2Technique(), evsm4Technique(),
-          esmTechnique(), mvrTechnique(), referenceTechnique()};
+          esmTechnique(), mvrTechnique(), vwssTechnique(), referenceTechnique()};
 }
 
 }  // namespace penumbra::shadows

@@ -1,0 +1,46 @@
+// Shared by the techniques that sample the light with views (MVR, VWSS): the stratified light
+// points, and the per-receiver depth tests against one light sample's depth map.
+//
+// Per receiver, computed once: its light-space position (x, y, d), 1/d, its normal in light space
+// and the bias factor bias + slope_bias * tan(theta) for the ray from the light's centre (views'
+// origins lie on the light, so theta hardly changes between them). Per map, a tap is then a few
+// multiplications, one division and one load: lit when the light sample is above the receiver's
+// tangent plane (its own closed surface hides the rest) and the stored value passes
+// near / (d (1 - beta)), beta = the map's texel footprint per unit depth times the bias factor.
+// Thread-safety: one object per technique run; accumulate() runs rows in parallel in the
+// context's arena, each receiver's count written by one task.
+#pragma once
+
+#include <glm/vec2.hpp>
+#include <span>
+#include <vector>
+
+#include "shadows/shadow_map.h"
+#include "shadows/technique.h"
+
+namespace penumbra::shadows {
+
+// Light-space points (world units from the centre along right and up) of n stratified samples:
+// a Hammersley set over the rectangle. MVR and VWSS use the same points.
+std::vector<glm::vec2> lightSamplePoints(const RectLight& light, int n);
+
+class LightSampleTests {
+ public:
+  void prepare(ShadowContext& ctx, BiasParams bias);
+  // counts(x, y) += the taps (offsets in texels of `map`) that pass, for the light sample at
+  // light-space point lightPoint whose depth map is `map`.
+  void accumulate(ShadowContext& ctx, const ShadowMap& map, glm::vec2 lightPoint, std::span<const glm::vec2> taps);
+  // V = counts / total (exactly 1 when every tap passed); background 1, behind the light 0.
+  void finish(ShadowContext& ctx, int total, raster::ImageFloat& visibility) const;
+
+ private:
+  struct Prepared {
+    float x, y, d, invD, bias;
+    glm::vec3 n;
+  };
+  int width_ = 0, height_ = 0;
+  std::vector<Prepared> prep_;
+  raster::Image<uint16_t> counts_;
+};
+
+}  // namespace penumbra::shadows

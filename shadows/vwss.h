@@ -1,0 +1,54 @@
+// View-warped multi-view soft shadows (Marrs, Watson, Healey, "View-Warped Multi-View Soft
+// Shadows for Local Area Lights", JCGT 2018; ../shared/papers): MVR's depth maps without
+// rasterizing the casters once per map.
+//
+//  1. Point generation (section 3.1): the casters are rasterized once, from a source view behind
+//     the light's centre that contains the whole light and every receiver (makeContainingView,
+//     Eqs. 1-3: moved back by D, near plane on the light, resolution raised by (near + D) / near),
+//     with the depth test off (and, with cull=back, the faces turned away from the light culled, as
+//     the paper does for closed meshes; off by default: open surfaces need both sides): every fragment becomes a
+//     world-space point, the hidden layers included (which is what removes the disocclusion leaks
+//     of naive warping, the paper's Fig. 4 b; the containing view removes the field-of-view leaks,
+//     Fig. 4 a, c).
+//  2. Depth maps (section 3.2): the points are splatted (raster/splat.h: an atomic min of a 64-bit
+//     key, reversed depth in the high half) into M light-sample views -- the same Hammersley light
+//     points and the same fitted views as `mvr` -- K views per traversal of the points; each pass
+//     of K maps is resolved to depth and looked up before the next pass reuses the buffers.
+//  3. Shading: per receiver and map, a small PCF (1 or 5 taps: the texel and its 4 neighbours)
+//     with the bias of `hard`, and the receiver's horizon exactly per light sample, as MVR does;
+//     V = lit taps / all taps.
+//
+// Variants: `buffered` (points stored, then splatted: one rasterization) and `unbuffered`
+// (fragments splatted straight from the point-generation pass: one rasterization per pass of K
+// maps, no point storage). Two deliberately naive variants show what the method fixes:
+// `layers=nearest` keeps only the nearest fragment per source texel (a plain depth map warped),
+// `containing=off` puts the source view on the light's centre.
+//
+// Timing: point generation, splatting and resolving count as "maps" (JSON ms_maps), lookups as
+// "evaluate". docs/techniques/vwss.md.
+#pragma once
+
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "shadows/technique.h"
+
+namespace penumbra::shadows {
+
+TechniqueInfo vwssTechnique();
+
+// Point generation: rasterizes `casters` from `source` (faces turned away from the light culled
+// with cullBackFaces) and either the depth
+// test off (allLayers: every front-facing fragment becomes a point) or on (the nearest fragment of
+// each texel only: what warping a plain depth map would use). Points are world positions; the
+// payload of a point is its source texel y * width + x. Deterministic order: tiles in order, each
+// tile's fragments in submission order.
+struct LightPoints {
+  std::vector<glm::vec3> points;
+  std::vector<uint32_t> payloads;
+  raster::PassStats pass;
+};
+LightPoints generateLightPoints(raster::Rasterizer& raster, const Geometry& casters, const LightView& source,
+                                bool allLayers, bool cullBackFaces);
+
+}  // namespace penumbra::shadows
