@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "shadows/kernel_taps.h"
 #include "shadows/sampling.h"
 #include "shadows/shadow_map.h"
 
@@ -50,17 +51,18 @@ class Pcf final : public Technique {
     const float radius = static_cast<float>(params.number("radius"));
     const int taps = params.integer("taps");
     rotate_ = params.choice("kernel") == "poisson";
-    offsets_.clear();
+    std::vector<glm::vec2> offsets;
     if (rotate_) {
-      for (glm::vec2 p : poissonDisk(taps)) offsets_.push_back(p * radius);
+      for (glm::vec2 p : poissonDisk(taps)) offsets.push_back(p * radius);
     } else {
       const int side = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(taps)))));
       for (int j = 0; j < side; ++j)
         for (int i = 0; i < side; ++i)
-          offsets_.push_back(side == 1 ? glm::vec2(0.0f)
-                                       : glm::vec2(radius * (2.0f * static_cast<float>(i) / static_cast<float>(side - 1) - 1.0f),
-                                                   radius * (2.0f * static_cast<float>(j) / static_cast<float>(side - 1) - 1.0f)));
+          offsets.push_back(side == 1 ? glm::vec2(0.0f)
+                                      : glm::vec2(radius * (2.0f * static_cast<float>(i) / static_cast<float>(side - 1) - 1.0f),
+                                                  radius * (2.0f * static_cast<float>(j) / static_cast<float>(side - 1) - 1.0f)));
     }
+    offsets_ = TapPattern(offsets);
     map_.view = makeLightView(ctx.in.light, ctx.region, glm::vec2(0.0f), ctx.nearPlane(), size, size);
     renderDepthMap(ctx, map_);
     ctx.times.msMaps += msSince(t0);
@@ -69,7 +71,7 @@ class Pcf final : public Technique {
     if (minMax_) ctx.raster.run([&] { pyramid_ = raster::buildMinMaxPyramid(map_.depth.image()); });
     ctx.times.msFilter += msSince(t1);
     radius_ = radius;
-    ctx.notes.push_back("pcf: 1 depth map " + std::to_string(size) + "^2, " + std::to_string(offsets_.size()) + " taps (" +
+    ctx.notes.push_back("pcf: 1 depth map " + std::to_string(size) + "^2, " + std::to_string(offsets_.count) + " taps (" +
                         params.choice("kernel") + ")");
   }
 
@@ -79,7 +81,8 @@ class Pcf final : public Technique {
     // Tangent-space size of one texel.
     const glm::vec2 texel((view.tanHi.x - view.tanLo.x) / static_cast<float>(view.width),
                           (view.tanHi.y - view.tanLo.y) / static_cast<float>(view.height));
-    const float inv = 1.0f / static_cast<float>(offsets_.size());
+    const float tapCount = static_cast<float>(offsets_.count);
+    const TapMap taps = map_.tapMap();
     const glm::vec2 box = radius_ * texel;
     SkipCounter skipped;
     forEachReceiver(ctx, visibility, [&](int x, int y, const Receiver& r) {
@@ -98,13 +101,10 @@ class Pcf final : public Technique {
                         unitFloat(hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0x9cfu));
         c = std::cos(a), s = std::sin(a);
       }
-      int lit = 0;
-      for (const glm::vec2& o : offsets_) {
-        const glm::vec2 d(c * o.x - s * o.y, s * o.x + c * o.y);
-        const float tx = plane.tanX() + d.x * texel.x, ty = plane.tanY() - d.y * texel.y;
-        lit += map_.stored(tx, ty) <= plane.threshold(tx, ty) ? 1 : 0;
-      }
-      return static_cast<float>(lit) * inv;
+      // Offsets o rotated by (c, s), in texels: tap at centre + (c o.x - s o.y, -(s o.x + c o.y)) * texel.
+      const int lit = countLitRotatedTaps(taps, plane.tapPlane(), offsets_.x.data(), offsets_.y.data(), offsets_.count,
+                                          c, s, plane.tanX(), plane.tanY(), texel.x, texel.y);
+      return static_cast<float>(lit) / tapCount;  // exactly 1 when every tap passes (n * (1/n) may not be)
     });
     ctx.times.msEvaluate += msSince(t0);
     if (minMax_)
@@ -115,7 +115,7 @@ class Pcf final : public Technique {
   ShadowMap map_;
   BiasParams bias_;
   bool rotate_ = true;
-  std::vector<glm::vec2> offsets_;  // texels
+  TapPattern offsets_;  // texels
   raster::MinMaxPyramid pyramid_;
   float radius_ = 0;
   bool minMax_ = true;

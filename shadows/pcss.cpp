@@ -3,6 +3,7 @@
 #include <chrono>
 #include <vector>
 
+#include "shadows/kernel_taps.h"
 #include "shadows/sampling.h"
 #include "shadows/shadow_map.h"
 
@@ -25,8 +26,8 @@ class Pcss final : public Technique {
     const auto t0 = Clock::now();
     bias_ = biasParams(params);
     const int size = params.integer("map_size");
-    blocker_ = squarePattern(params.integer("blocker_samples"));
-    filter_ = squarePattern(params.integer("filter_samples"));
+    blocker_ = TapPattern(squarePattern(params.integer("blocker_samples")));
+    filter_ = TapPattern(squarePattern(params.integer("filter_samples")));
     map_.view = makeLightView(ctx.in.light, ctx.region, glm::vec2(0.0f), ctx.nearPlane(), size, size);
     renderDepthMap(ctx, map_);
     ctx.times.msMaps += msSince(t0);
@@ -34,8 +35,8 @@ class Pcss final : public Technique {
     minMax_ = params.choice("minmax") == "on";
     if (minMax_) ctx.raster.run([&] { pyramid_ = raster::buildMinMaxPyramid(map_.depth.image()); });
     ctx.times.msFilter += msSince(t1);
-    ctx.notes.push_back("pcss: 1 depth map " + std::to_string(size) + "^2, " + std::to_string(blocker_.size()) +
-                        " blocker + " + std::to_string(filter_.size()) + " filter samples");
+    ctx.notes.push_back("pcss: 1 depth map " + std::to_string(size) + "^2, " + std::to_string(blocker_.count) +
+                        " blocker + " + std::to_string(filter_.count) + " filter samples");
   }
 
   void evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) override {
@@ -43,19 +44,16 @@ class Pcss final : public Technique {
     const LightView& view = map_.view;
     const glm::vec2 halfLight(0.5f * ctx.in.light.width, 0.5f * ctx.in.light.height);
     const float znear = view.znear;
+    const TapMap taps = map_.tapMap();
     SkipCounter skipped, filterSkipped;
     forEachReceiver(ctx, visibility, [&](int x, int y, const Receiver& r) {
       const ReceiverPlane plane(view, view.toView(r.position), r.normal, bias_);
+      const TapPlane tapPlane = plane.tapPlane();
       const float dr = plane.depth();
+      // Taps at the pattern points in [0,1)^2, shifted by this (wrapped), over half-extents around the
+      // receiver (kernel_taps.h).
       const glm::vec2 shift(unitFloat(hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0xb10cu)),
                             unitFloat(hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0xb10du)));
-      // A tap at pattern point p in [0,1)^2 (shifted, wrapped) over half-extents h around the receiver.
-      auto tap = [&](glm::vec2 p, glm::vec2 h, float& tx, float& ty) {
-        p += shift;
-        p -= glm::floor(p);
-        tx = plane.tanX() + (2.0f * p.x - 1.0f) * h.x;
-        ty = plane.tanY() + (2.0f * p.y - 1.0f) * h.y;
-      };
       // 1. Blocker search (none possible when the whole search box passes: V = 1 without taps).
       const glm::vec2 search = halfLight * std::max(1.0f / znear - 1.0f / dr, 0.0f);
       if (minMax_ && testBox(map_, pyramid_, plane, plane.tanX() - search.x, plane.tanY() - search.y,
@@ -63,20 +61,12 @@ class Pcss final : public Technique {
         skipped.add();
         return 1.0f;
       }
-      double sum = 0.0;
-      int blockers = 0;
-      for (const glm::vec2& p : blocker_) {
-        float tx, ty;
-        tap(p, search, tx, ty);
-        const float z = map_.stored(tx, ty);
-        if (z > plane.threshold(tx, ty)) {
-          sum += static_cast<double>(view.depthOf(z));
-          ++blockers;
-        }
-      }
-      if (blockers == 0) return 1.0f;
+      const BlockerSum blockers = searchBlockers(taps, tapPlane, blocker_.x.data(), blocker_.y.data(), blocker_.count,
+                                                 shift.x, shift.y, plane.tanX(), plane.tanY(), search.x, search.y,
+                                                 znear);
+      if (blockers.count == 0) return 1.0f;
       // 2. Penumbra estimate from the average blocker depth.
-      const float db = static_cast<float>(sum / blockers);
+      const float db = static_cast<float>(blockers.sum / blockers.count);
       const glm::vec2 filter = halfLight * std::max(1.0f / db - 1.0f / dr, 0.0f);
       // 3. PCF over the penumbra (known without taps when the box is uniformly lit or blocked).
       const BoxTest box = minMax_ ? testBox(map_, pyramid_, plane, plane.tanX() - filter.x, plane.tanY() - filter.y,
@@ -86,13 +76,9 @@ class Pcss final : public Technique {
         filterSkipped.add();
         return box == BoxTest::AllLit ? 1.0f : 0.0f;
       }
-      int lit = 0;
-      for (const glm::vec2& p : filter_) {
-        float tx, ty;
-        tap(p, filter, tx, ty);
-        lit += map_.stored(tx, ty) <= plane.threshold(tx, ty) ? 1 : 0;
-      }
-      return static_cast<float>(lit) / static_cast<float>(filter_.size());
+      const int lit = countLitTaps(taps, tapPlane, filter_.x.data(), filter_.y.data(), filter_.count, shift.x, shift.y,
+                                   plane.tanX(), plane.tanY(), filter.x, filter.y);
+      return static_cast<float>(lit) / static_cast<float>(filter_.count);
     });
     ctx.times.msEvaluate += msSince(t0);
     if (minMax_)
@@ -104,7 +90,7 @@ class Pcss final : public Technique {
  private:
   ShadowMap map_;
   BiasParams bias_;
-  std::vector<glm::vec2> blocker_, filter_;
+  TapPattern blocker_, filter_;
   raster::MinMaxPyramid pyramid_;
   bool minMax_ = true;
 };

@@ -16,6 +16,7 @@
 
 #include "raster/depth_target.h"
 #include "raster/kernels.h"
+#include "shadows/kernel_taps.h"
 #include "shadows/technique.h"
 
 namespace penumbra::shadows {
@@ -38,6 +39,8 @@ struct ShadowMap {
   // The column / row that stored() reads for a tangent coordinate.
   int column(float tanX) const { return static_cast<int>(std::min(maxX_, std::max(0.0f, ax_ * tanX + bx_))); }
   int row(float tanY) const { return static_cast<int>(std::min(maxY_, std::max(0.0f, ay_ * tanY + by_))); }
+  // The lookup constants, for the SIMD tap kernels (kernel_taps.h); stored() reads the same texels.
+  TapMap tapMap() const { return {data_, static_cast<int32_t>(stride_), ax_, bx_, ay_, by_, maxX_, maxY_}; }
 
  private:
   const float* data_ = nullptr;
@@ -78,6 +81,8 @@ class ReceiverPlane {
   float tanX() const { return tx_; }
   float tanY() const { return ty_; }
   float depth() const { return d_; }
+  // The constants of threshold(), for the SIMD tap kernels (kernel_taps.h).
+  TapPlane tapPlane() const { return {a_, b_, c_, lo_, hi_, scale_}; }
 
  private:
   float a_, b_, c_, lo_, hi_, scale_, tx_, ty_, d_;
