@@ -111,6 +111,7 @@ int runRender(const RenderArgs& a) {
   };
   if (!output.empty()) checkFolder(output);
   if (!a.exr.empty()) checkFolder(a.exr);
+  checkPointOptions(a);
 
   allowThreads(a.threads);
   Progress progress("render", 2.0);
@@ -118,6 +119,16 @@ int runRender(const RenderArgs& a) {
                                             ? engine::makeBuiltinScene(a.builtin.empty() ? engine::kDefaultScene : a.builtin)
                                             : engine::loadScene(a.scene);
   if (!scene) fail(scene.error());
+  // Default output: <scene file stem or built-in name>.png in the current folder, in safe characters.
+  std::string path = output;
+  if (path.empty()) {
+    std::string stem = a.scene.empty() ? (a.builtin.empty() ? std::string(engine::kDefaultScene) : a.builtin)
+                                       : std::filesystem::path(a.scene).stem().string();
+    for (char& ch : stem)
+      if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_' && ch != '.') ch = '_';
+    path = (stem.empty() ? std::string("penumbra") : stem) + ".png";
+  }
+  if (a.points) return renderPoints(a, *scene, eye, target, path);
 
   engine::RenderOptions options;
   options.width = a.width;
@@ -138,15 +149,6 @@ int runRender(const RenderArgs& a) {
   progress.step(1, 2, "rendering " + std::to_string(scene->triangleCount()) + " triangles");
   const engine::Frame frame = renderer.render(*scene, options);
   progress.step(2, 2, "writing " + (output.empty() ? std::string("the image") : output));
-  // Default output: <scene file stem or built-in name>.png in the current folder, in safe characters.
-  std::string path = output;
-  if (path.empty()) {
-    std::string stem = a.scene.empty() ? (a.builtin.empty() ? std::string(engine::kDefaultScene) : a.builtin)
-                                       : std::filesystem::path(a.scene).stem().string();
-    for (char& ch : stem)
-      if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_' && ch != '.') ch = '_';
-    path = (stem.empty() ? std::string("penumbra") : stem) + ".png";
-  }
   // Both files or neither: the EXR first, then the PNG; if the PNG fails the EXR is removed.
   if (!a.exr.empty()) {
     if (engine::Status st = engine::writeImage(a.exr, frame.linear); !st) fail(st.error());

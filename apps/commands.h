@@ -1,8 +1,15 @@
 // The subcommands and their arguments (filled by CLI11 in main.cpp).
 #pragma once
 
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <optional>
 #include <string>
 #include <vector>
+
+namespace penumbra::engine {
+struct Scene;
+}
 
 namespace penumbra::apps {
 
@@ -16,8 +23,16 @@ struct RenderArgs {
   std::vector<std::string> params;    // name=value for the technique
   std::string cache;                  // cache folder for the ground truth ("" = none)
   bool listShadows = false;
+  bool points = false;                // draw a point cloud with the splatter instead (cmd_points.cpp)
+  std::optional<int64_t> pointCount;  // points sampled from the scene, [1, 2^26]; none: 2,000,000
+  std::string pointsFile;             // .xyz file of points instead of sampling the scene
 };
 int runRender(const RenderArgs& args);
+// render --points: checks the point options (and that none is given without --points), then, once
+// the scene is loaded, draws the points to the PNG at `path` (cmd_points.cpp).
+void checkPointOptions(const RenderArgs& args);
+int renderPoints(const RenderArgs& args, const engine::Scene& scene, std::optional<glm::vec3> eye,
+                 std::optional<glm::vec3> target, const std::string& path);
 
 struct BenchRasterArgs {
   std::vector<std::string> meshes;
@@ -39,6 +54,16 @@ struct BenchShadowsArgs {
   bool json = false;
 };
 int runBenchShadows(const BenchShadowsArgs& args);
+
+struct BenchPointsArgs {
+  int64_t points = 4000000;  // sampled from the built-in scene 'complex', [1, 2^26]
+  std::vector<int> views;    // M per run, each in [1, 1024]; default 1, 8, 32, 128
+  int size = 512;            // each view is size x size pixels, [1, 4096]
+  std::vector<int> threads;  // thread counts, each in [1, 1024]; default 1, 2
+  int runs = 5;              // timed runs per (views, threads); medians are reported; [1, 1000]
+  bool json = false;
+};
+int runBenchPoints(const BenchPointsArgs& args);
 
 struct StressArgs {
   std::string suite = "raster";

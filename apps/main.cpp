@@ -1,7 +1,9 @@
 // penumbra: the command line. Subcommands:
-//   render  render a scene file, glTF file or built-in scene to PNG (and EXR)
+//   render  render a scene file, glTF file or built-in scene to PNG (and EXR); --points: its surface
+//           as a point cloud drawn by the point splatter
 //   bench   raster: time the standard workloads W1/W2 (shared/WORKLOADS.md)
 //           shadows: soft-shadow techniques, run time per stage against error vs the ground truth
+//           points: point splatting throughput against a memory-bandwidth bound
 //   stress  raster: sweep the numerically hard cases and report what broke
 // Bad input (files, options, values) ends with one line on stderr and exit status 2, before any
 // output file is written.
@@ -44,6 +46,13 @@ int main(int argc, char** argv) {
   r->add_option("--param", render.params, "Technique parameter name=value (repeatable)");
   r->add_option("--cache", render.cache, "Folder caching the ground truth between runs (default: none)");
   r->add_flag("--list-shadows", render.listShadows, "List the shadow techniques and their parameters and exit");
+  r->add_flag("--points", render.points,
+              "Draw a point cloud with the point splatter instead of triangles (from the scene or --points-file)");
+  r->add_option("--point-count", render.pointCount,
+                "Points sampled from the scene's surfaces [1, 2^26] (default 2000000)");
+  r->add_option("--points-file", render.pointsFile,
+                "Text file of points, one 'x y z' or 'x y z r g b' (0..255) per line; camera fitted to them "
+                "unless a scene is named");
 
   BenchRasterArgs bench;
   CLI::App* b = app.add_subcommand("bench", "Benchmarks");
@@ -70,6 +79,18 @@ int main(int argc, char** argv) {
   bs->add_option("--out", benchShadows.out, "Report folder (default out/bench-shadows)");
   bs->add_option("--cache", benchShadows.cache, "Ground-truth cache folder (default <out>/gt-cache)");
   bs->add_flag("--json", benchShadows.json, "One JSON object per (scene, technique, setting) on stdout");
+
+  BenchPointsArgs benchPoints;
+  CLI::App* bp =
+      b->add_subcommand("points", "Point splatting: points and point-views per second against a bandwidth bound");
+  bp->add_option("--points", benchPoints.points,
+                 "Points sampled from the built-in scene 'complex' [1, 2^26] (default 4000000)");
+  bp->add_option("--views", benchPoints.views, "View counts M, all splatted in one traversal (default 1,8,32,128)")
+      ->delimiter(',');
+  bp->add_option("--size", benchPoints.size, "Each view is size x size pixels [1, 4096] (default 512)");
+  bp->add_option("--threads", benchPoints.threads, "Thread counts to run (default: 1 and 2)")->delimiter(',');
+  bp->add_option("--runs", benchPoints.runs, "Timed runs per (views, threads); medians are reported (default 5)");
+  bp->add_flag("--json", benchPoints.json, "One JSON object per (views, threads) on stdout");
 
   StressArgs stress;
   CLI::App* s = app.add_subcommand("stress", "Sweep numerically hard cases; exit 1 if anything broke");
@@ -101,6 +122,7 @@ int main(int argc, char** argv) {
     if (r->parsed()) return runRender(render);
     if (br->parsed()) return runBenchRaster(bench);
     if (bs->parsed()) return runBenchShadows(benchShadows);
+    if (bp->parsed()) return runBenchPoints(benchPoints);
     if (s->parsed()) return runStress(stress);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "penumbra: error: %s\n", e.error.line().c_str());

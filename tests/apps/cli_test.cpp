@@ -2,15 +2,25 @@
 // exit status 2 and no output file; good input works.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
+
+#include "apps/point_cloud.h"
+#include "engine/builtin_scenes.h"
+#include "engine/image_io.h"
+#include "engine/texture.h"
 
 namespace {
 
@@ -188,6 +198,148 @@ TEST_F(Cli, StressPassesAndPrintsATable) {
   EXPECT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("far from origin"), std::string::npos);
   EXPECT_NE(r.out.find("0 broken"), std::string::npos) << r.out;
+}
+
+// --- render --points and bench points ---------------------------------------------------------
+
+// The pixels of a PNG that differ from `background`, as packed 0xAABBGGRR.
+std::vector<uint32_t> nonBackground(const std::string& png, penumbra::raster::Rgba8 background) {
+  const auto img = penumbra::engine::readImageRgba8(png);
+  EXPECT_TRUE(img.ok()) << png;
+  std::vector<uint32_t> out;
+  if (!img.ok()) return out;
+  for (int y = 0; y < img.value().height(); ++y)
+    for (int x = 0; x < img.value().width(); ++x) {
+      const penumbra::raster::Rgba8 c = img.value().at(x, y);
+      if (!(c == background))
+        out.push_back(uint32_t{c.r} | (uint32_t{c.g} << 8) | (uint32_t{c.b} << 16) | (uint32_t{c.a} << 24));
+    }
+  return out;
+}
+
+penumbra::raster::Rgba8 defaultBackground() {
+  const auto scene = penumbra::engine::makeBuiltinScene(penumbra::engine::kDefaultScene);
+  const glm::vec3 bg = scene.value().background;
+  using penumbra::engine::linearToSrgb;
+  return {linearToSrgb(bg.x), linearToSrgb(bg.y), linearToSrgb(bg.z), 255};
+}
+
+std::string readAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// The sampler behind render --points and bench points, called directly: two triangles of world
+// areas 1 and 3 (an instance scaled by 2 in x) get 1/4 and 3/4 of the points, within 4 sigma of
+// the binomial; every point lies in its triangle; the mean of a triangle's points is its centroid;
+// the same points at 1 and 2 threads.
+TEST(PointCloud, SamplesUniformlyByArea) {
+  penumbra::engine::Scene scene;
+  penumbra::engine::Mesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {3, 0, 1}, {0, 1, 1}};
+  mesh.normals.assign(6, glm::vec3(0, 0, 1));
+  mesh.indices = {0, 1, 2, 3, 4, 5};
+  scene.meshes.push_back(mesh);
+  scene.instances.push_back({"i", 0, glm::mat4(glm::vec4(2, 0, 0, 0), glm::vec4(0, 1, 0, 0), glm::vec4(0, 0, 1, 0),
+                                               glm::vec4(0, 0, 0, 1))});
+  constexpr int64_t n = 100000;
+  auto sample = [&](int threads) {
+    return tbb::task_arena(threads).execute([&] { return penumbra::apps::sampleSurface(scene, n, true); });
+  };
+  const auto one = sample(1), two = sample(2);
+  ASSERT_TRUE(one.ok() && two.ok());
+  EXPECT_EQ(one.value().positions, two.value().positions);
+  int64_t upper = 0;
+  glm::dvec2 sum0(0.0);
+  for (const glm::vec3& p : one.value().positions) {
+    const bool top = p.z > 0.5f;
+    ASSERT_NEAR(p.z, top ? 1.0f : 0.0f, 1e-6f);
+    const float u = p.x / (top ? 6.0f : 2.0f), v = p.y;  // barycentrics of the world triangle
+    ASSERT_TRUE(u >= 0.0f && v >= 0.0f && u + v <= 1.0f + 1e-6f) << p.x << " " << p.y;
+    if (top) ++upper;
+    else sum0 += glm::dvec2(p.x, p.y);
+  }
+  const double sigma = std::sqrt(0.75 * 0.25 / n);
+  EXPECT_NEAR(static_cast<double>(upper) / n, 0.75, 4 * sigma);
+  const double lower = static_cast<double>(n - upper);
+  EXPECT_NEAR(sum0.x / lower, 2.0 / 3.0, 0.015);
+  EXPECT_NEAR(sum0.y / lower, 1.0 / 3.0, 0.01);
+}
+
+TEST_F(Cli, RenderPointsOfTheDefaultScene) {
+  const std::string args = "render --points --point-count 100000 --width 96 --height 64 ";
+  CliResult r = run(args + "--threads 1 --stats -o " + path("p1.png"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("points: 100000 sampled"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("splat: written"), std::string::npos) << r.out;
+  // The scene fills most of the view: many points land, and the background shows between them.
+  const size_t covered = nonBackground(path("p1.png"), defaultBackground()).size();
+  EXPECT_GT(covered, 96u * 64u / 4) << r.out;
+  EXPECT_LT(covered, 96u * 64u) << r.out;
+  // The same bytes at 2 threads.
+  r = run(args + "--threads 2 -o " + path("p2.png"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(readAll(path("p1.png")), readAll(path("p2.png")));
+}
+
+TEST_F(Cli, RenderPointsFromAnXyzFile) {
+  write("three.xyz", "# three colored points\n\n0 0 0 255 0 0\r\n  1 0 0\t0 255 0\n0 1 0 0 0 255\n");
+  const CliResult r = run("render --points --points-file " + path("three.xyz") + " --width 64 --height 64 -o " +
+                          path("three.png"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  // The camera is fitted to the points: each lands in its own pixel with its own color.
+  std::vector<uint32_t> px = nonBackground(path("three.png"), defaultBackground());
+  std::sort(px.begin(), px.end());
+  EXPECT_EQ(px, (std::vector<uint32_t>{0xFF0000FFu, 0xFF00FF00u, 0xFFFF0000u}));
+}
+
+TEST_F(Cli, RenderPointsRejectsMalformedFilesAndOptions) {
+  const std::string o = path("o.png");
+  const std::string render = "render --points --width 16 --height 16 -o " + o + " --points-file ";
+  write("bad.xyz", "# header\n0 0 0\n1 2 abc\n3 4 5\n");
+  expectBadInput(render + path("bad.xyz"), "bad.xyz: line 3", o);
+  write("color.xyz", "0 0 0 1 2 3\n0 0 1 1 256 3\n");
+  expectBadInput(render + path("color.xyz"), "color.xyz: line 2", o);
+  write("inf.xyz", "\n\n0 0 inf 1 2 3\n");
+  expectBadInput(render + path("inf.xyz"), "inf.xyz: line 3", o);
+  expectBadInput("render --points --point-count 0 -o " + o, "--point-count", o);
+  expectBadInput("render --point-count 10 -o " + o, "--point-count", o);
+  expectBadInput("render --points --exr " + path("x.exr") + " -o " + o, "--exr", o);
+}
+
+TEST_F(Cli, BenchPointsPrintsOneJsonObjectPerRun) {
+  const CliResult r = run("bench points --points 100000 --views 1,4 --runs 1 --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::set<std::pair<int, int>> seen;  // (views, threads)
+  std::stringstream lines(r.out);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.empty() || line[0] != '{') continue;
+    const nlohmann::json j = nlohmann::json::parse(line);
+    for (const char* key : {"points", "views", "threads", "ms_median", "mpoints_per_s", "mpointviews_per_s",
+                            "bytes_per_pointview", "bound_mpointviews_per_s", "fraction_of_bound", "written_fraction"})
+      EXPECT_TRUE(j.contains(key)) << key << " in " << line;
+    EXPECT_EQ(j["points"].get<int>(), 100000);
+    const int views = j["views"].get<int>();
+    seen.insert({views, j["threads"].get<int>()});
+    // Every point lands in every view, so the model's bytes are 12 / M + 8 or 64.
+    EXPECT_DOUBLE_EQ(j["written_fraction"].get<double>(), 1.0) << line;
+    const double bytes = j["bytes_per_pointview"].get<double>();
+    EXPECT_TRUE(std::abs(bytes - (12.0 / views + 8.0)) < 1e-3 || std::abs(bytes - (12.0 / views + 64.0)) < 1e-3)
+        << line;
+    EXPECT_GT(j["mpointviews_per_s"].get<double>(), 0.0);
+    EXPECT_NEAR(j["mpointviews_per_s"].get<double>(), views * j["mpoints_per_s"].get<double>(), 0.01 * views + 0.01);
+    EXPECT_GT(j["bound_mpointviews_per_s"].get<double>(), 0.0);
+  }
+  EXPECT_EQ(seen, (std::set<std::pair<int, int>>{{1, 1}, {1, 2}, {4, 1}, {4, 2}})) << r.out;
+}
+
+TEST_F(Cli, BenchPointsBadOptions) {
+  const std::string o = path("o.png");
+  expectBadInput("bench points --views 1,0", "--views", o);
+  expectBadInput("bench points --views 1024 --size 4096", "--views/--size", o);
 }
 
 }  // namespace
