@@ -222,12 +222,16 @@ int runBenchShadows(const BenchShadowsArgs& a) {
       std::fflush(stdout);
     }
 
-    // What skipping saves: the first setting again with caster culling off (same views).
+    // What skipping saves: a setting again with caster culling off (same views): mvr with 24 maps
+    // when it runs (its cost grows with the triangles drawn), else the first setting.
     progress.step(++step, steps, name + ": caster culling off");
     {
+      size_t pick = 0;
+      for (size_t i = 0; i < runs.size(); ++i)
+        if (runs[i].first->name == "mvr" && runs[i].second == "views=24") pick = i;
       engine::RenderOptions on = base, off = base;
-      on.shadow = off.shadow = runs[0].first->name;
-      on.shadowParams = off.shadowParams = runs[0].second;
+      on.shadow = off.shadow = runs[pick].first->name;
+      on.shadowParams = off.shadowParams = runs[pick].second;
       off.shadowCulling = false;
       const Timed tOn = timedRender(renderer, scene, on, a.runs), tOff = timedRender(renderer, scene, off, a.runs);
       const engine::LightShadowStats& s = tOn.frame.stats.shadows.at(0);
@@ -236,7 +240,8 @@ int runBenchShadows(const BenchShadowsArgs& a) {
       std::snprintf(buf, sizeof buf,
                     "%s: %s %s: culling kept %zu of %zu triangles (%zu instances culled whole): %.2f ms, without culling "
                     "%.2f ms; V max difference %.3g, %.3f%% of receivers off by more than 0.05",
-                    name.c_str(), runs[0].first->name.c_str(), runs[0].second.c_str(), s.trianglesFlattened - s.trianglesCulled,
+                    name.c_str(), runs[pick].first->name.c_str(), runs[pick].second.c_str(),
+                    s.trianglesFlattened - s.trianglesCulled,
                     scene.triangleCount(), s.instancesCulled, tOn.msTotal, tOff.msTotal, d.maxErr,
                     100.0 * d.fracOver005);
       cullingLines.push_back(buf);

@@ -5,8 +5,8 @@ Usage: scripts/shadow-bench-tables.py RESULTS_JSON
 
 Reads the report's results.json and replaces, in docs/techniques/*.md and docs/performance.md,
 the text between <!-- bench:NAME --> and <!-- /bench --> markers: NAME is a technique (its rows
-on every scene and setting) or "overview" (RMSE of V and total time of each technique's defaults
-per scene).
+on every scene and setting), "overview" (RMSE of V and total time of each technique's defaults
+per scene) or "vwssmvr" (VWSS against MVR at 24 and 128 maps).
 """
 import json
 import pathlib
@@ -44,6 +44,28 @@ def overview_table(rows):
     return "\n".join(out)
 
 
+def vwss_table(rows):
+    """VWSS against MVR with the same light samples and map size, at 24 and 128 maps."""
+    out = ["| scene | maps | MVR maps ms | VWSS maps ms | maps speed-up | MVR total ms | VWSS total ms | "
+           "MVR RMSE V | VWSS RMSE V | RMSE ratio |",
+           "|---|---|---|---|---|---|---|---|---|---|"]
+    scenes = []
+    for r in rows:
+        if r["scene"] not in scenes:
+            scenes.append(r["scene"])
+    for s in scenes:
+        for views in (24, 128):
+            m = [r for r in rows if r["scene"] == s and r["technique"] == "mvr" and r["params"] == f"views={views}"]
+            v = [r for r in rows if r["scene"] == s and r["technique"] == "vwss" and r["params"] == f"views={views}"]
+            if not m or not v:
+                continue
+            m, v = m[0], v[0]
+            out.append(f"| {s} | {views} | {m['ms_maps']:.1f} | {v['ms_maps']:.1f} | {m['ms_maps'] / v['ms_maps']:.2f}x | "
+                       f"{m['ms_total']:.1f} | {v['ms_total']:.1f} | {m['rmse_v']:.4f} | {v['rmse_v']:.4f} | "
+                       f"{v['rmse_v'] / m['rmse_v']:.2f} |")
+    return "\n".join(out)
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -56,7 +78,12 @@ def main():
 
         def repl(m):
             name = m.group(2)
-            table = overview_table(rows) if name == "overview" else technique_table(rows, name)
+            if name == "overview":
+                table = overview_table(rows)
+            elif name == "vwssmvr":
+                table = vwss_table(rows)
+            else:
+                table = technique_table(rows, name)
             return m.group(1) + table + "\n" + m.group(3)
 
         new = pattern.sub(repl, text)

@@ -371,7 +371,7 @@ class ScalarPcf final : public Technique {
     const LightView& view = map_.view;
     const glm::vec2 texel((view.tanHi.x - view.tanLo.x) / static_cast<float>(view.width),
                           (view.tanHi.y - view.tanLo.y) / static_cast<float>(view.height));
-    const float inv = 1.0f / static_cast<float>(offsets_.size());
+    const float tapCount = static_cast<float>(offsets_.size());
     const glm::vec2 box = radius_ * texel;
     forEachReceiver(ctx, visibility, [&](int x, int y, const Receiver& r) {
       const ReceiverPlane plane(view, view.toView(r.position), r.normal, bias_);
@@ -392,7 +392,7 @@ class ScalarPcf final : public Technique {
         const float tx = plane.tanX() + d.x * texel.x, ty = plane.tanY() - d.y * texel.y;
         lit += map_.stored(tx, ty) <= plane.threshold(tx, ty) ? 1 : 0;
       }
-      return static_cast<float>(lit) * inv;
+      return static_cast<float>(lit) / tapCount;
     });
   }
 
