@@ -10,11 +10,6 @@ namespace penumbra::shadows {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
 // exp(c) for z = 1 must stay below FLT_MAX = e^88.72 (esm.h).
 constexpr double kMaxExponent = 88.0;
 

@@ -9,11 +9,6 @@ namespace penumbra::shadows {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
 // 2 c <= 84 < ln(FLT_MAX) = 88.72 (evsm.h).
 constexpr double kMaxExponent = 42.0;
 

@@ -25,11 +25,6 @@ namespace penumbra::shadows {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
 // Bumped whenever the image for given inputs could change (sampling, ray offsets, file layout): it
 // is part of the key and of the file header, so older cache files are never read.
 constexpr uint32_t kFormatVersion = 1;

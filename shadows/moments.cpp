@@ -11,11 +11,6 @@ namespace penumbra::shadows {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
 // Texel index and weight of the lower neighbour for a continuous coordinate (centres at +0.5).
 void bilinearAxis(float pos, int size, int& i0, int& i1, double& f) {
   double u = static_cast<double>(pos) - 0.5;

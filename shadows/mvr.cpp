@@ -9,9 +9,6 @@ namespace penumbra::shadows {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
 class Mvr final : public Technique {
  public:
   void prepare(ShadowContext& ctx, const ParamSet& params) override {

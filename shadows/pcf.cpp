@@ -39,9 +39,6 @@ std::vector<glm::vec2> poissonDisk(int n, uint32_t seed) {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
 class Pcf final : public Technique {
  public:
   void prepare(ShadowContext& ctx, const ParamSet& params) override {

@@ -11,9 +11,6 @@ namespace penumbra::shadows {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
 std::vector<glm::vec2> squarePattern(int n) {
   std::vector<glm::vec2> pts;
   for (int i = 0; i < n; ++i) pts.push_back(hammersley(static_cast<uint32_t>(i), static_cast<uint32_t>(n)));

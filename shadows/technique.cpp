@@ -144,7 +144,6 @@ std::string techniqueNames() {
 
 ShadowResult computeShadows(raster::Rasterizer& raster, const ShadowInputs& in, const TechniqueInfo& info,
                             const ParamSet& params) {
-  using Clock = std::chrono::steady_clock;
   ShadowResult out;
   const auto t0 = Clock::now();
   ShadowContext ctx{.raster = raster, .in = in, .region = {}, .casters = {}, .times = {}, .notes = {}, .mapPasses = {}};
@@ -156,7 +155,7 @@ ShadowResult computeShadows(raster::Rasterizer& raster, const ShadowInputs& in, 
     ctx.casters.indices.assign(in.casters.indices.begin(), in.casters.indices.end());
     ctx.casters.trianglesCulled = 0;
   }
-  out.msFit = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  out.msFit = msSince(t0);
   out.region = ctx.region;
   out.trianglesIn = ctx.casters.trianglesIn;
   out.trianglesCulled = ctx.casters.trianglesCulled;
@@ -167,7 +166,7 @@ ShadowResult computeShadows(raster::Rasterizer& raster, const ShadowInputs& in, 
                                       : "no caster can reach a visible receiver";
     const auto t1 = Clock::now();
     forEachReceiver(ctx, out.visibility, [](int, int, const Receiver&) { return 1.0f; }, SelfShadow::Handled);
-    out.times.msEvaluate = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+    out.times.msEvaluate = msSince(t1);
     return out;
   }
   std::unique_ptr<Technique> tech = info.make();

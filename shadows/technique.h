@@ -13,6 +13,7 @@
 // the context's rasterizer arena. Results are deterministic, identical at every thread count.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -143,6 +144,12 @@ ShadowResult computeShadows(raster::Rasterizer& raster, const ShadowInputs& in, 
                             const ParamSet& params);
 
 // Helpers shared by techniques.
+// Stage timing: milliseconds since t (steady clock).
+using Clock = std::chrono::steady_clock;
+inline double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
 // How a technique accounts for the receiver's own surface, which its biased depth tests do not
 // see: Horizon multiplies its V by horizonFraction (area_light.h: the part of the light below the
 // tangent plane is blocked by a closed surface itself; treated as independent of the other

@@ -13,9 +13,6 @@ namespace penumbra::shadows {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
 // The PCF of each map: the texel alone, or with its 4 neighbours (offsets in texels).
 constexpr glm::vec2 kFiveTaps[5] = {{0, 0}, {-1, 0}, {1, 0}, {0, -1}, {0, 1}};
 
