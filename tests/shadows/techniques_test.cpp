@@ -111,7 +111,7 @@ TEST(Techniques, MinMaxSkippingChangesNothing) {
   }
 }
 
-TEST(Techniques, BehindTheLightIsUnlitAndNothingToDoIsSkipped) {
+TEST(Techniques, BehindTheLightIsUnlitAndNoReachableCasterMeansNoPass) {
   EdgeCase c;
   c.receivers.at(5, 5).position.y = 5.0f;  // above the light: behind its emitting side
   raster::Rasterizer raster({.threads = 2});
