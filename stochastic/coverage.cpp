@@ -1,0 +1,160 @@
+#include "stochastic/coverage.h"
+
+#include <cmath>
+
+namespace penumbra::stochastic {
+
+using raster::ScreenVert;
+
+ThinLens makeThinLens(float proj00, float proj11, float apertureRadius, float focusDistance) {
+  ThinLens l;
+  if (!(apertureRadius > 0.0f) || !(focusDistance > 0.0f)) return l;
+  l.kx = apertureRadius * proj00 / focusDistance;
+  l.ky = apertureRadius * proj11 / focusDistance;
+  l.focusW = focusDistance;
+  return l;
+}
+
+SampleTarget makeSampleTarget(int width, int height, raster::CullMode cull) {
+  SampleTarget t;
+  t.vp = {width, height};
+  t.guard = raster::guardPlanes(t.vp);
+  t.cull = cull;
+  return t;
+}
+
+namespace {
+
+// The tile stage's decision for the snapped triangle (v0, v1, v2) at pixel centre (px, py): the
+// orientation and facing of setupTriangle, then the three edge functions with the top-left bias.
+bool insideSnapped(const ScreenVert& v0, const ScreenVert& v1, const ScreenVert& v2, raster::CullMode cull, int px,
+                   int py) {
+  const int64_t area =
+      (int64_t{v1.x} - v0.x) * (int64_t{v2.y} - v0.y) - (int64_t{v1.y} - v0.y) * (int64_t{v2.x} - v0.x);
+  if (area == 0) return false;
+  const bool front = area < 0;
+  if ((cull == raster::CullMode::Back && !front) || (cull == raster::CullMode::Front && front)) return false;
+  const ScreenVert* p[3] = {&v0, front ? &v2 : &v1, front ? &v1 : &v2};
+  const int64_t sx = int64_t{px} * raster::kSubpixelOne, sy = int64_t{py} * raster::kSubpixelOne;
+  for (int k = 0; k < 3; ++k) {
+    const ScreenVert& a = *p[k];
+    const ScreenVert& b = *p[k == 2 ? 0 : k + 1];
+    const int64_t dx = int64_t{b.x} - a.x, dy = int64_t{b.y} - a.y;
+    const int64_t bias = (dy < 0 || (dy == 0 && dx > 0)) ? 0 : 1;
+    if (-dy * (sx - a.x) + dx * (sy - a.y) - bias < 0) return false;
+  }
+  return true;
+}
+
+// Interpolation exactly as Rasterizer::shadeTile: ordered vertices' varyings vk (stride floats),
+// the set-up triangle's planes, at pixel (px, py).
+void interpolate(const raster::SetupTri& t, const raster::SetupAttr& a, const float* const v[3], int stride, int px,
+                 int py, float* out, float b[3]) {
+  const float dx = static_cast<float>(px - t.minX), dy = static_cast<float>(py - t.minY);
+  const float sw = (a.sw0 + a.swx * dx) + a.swy * dy;
+  const float s1 = (a.s10 + a.s1x * dx) + a.s1y * dy;
+  const float s2 = (a.s20 + a.s2x * dx) + a.s2y * dy;
+  const float iw = 1.0f / sw;
+  const float b1 = s1 * iw, b2 = s2 * iw, b0 = 1.0f - b1 - b2;
+  for (int c = 0; c < stride; ++c) out[c] = v[0][c] * b0 + v[1][c] * b1 + v[2][c] * b2;
+  b[0] = b0, b[1] = b1, b[2] = b2;
+}
+
+// Shared body of sampleCoverage and sampleFragment. kFragment: fill f and out.
+template <bool kFragment>
+bool evaluate(const glm::vec4 c[3], const float* const vary[3], int nv, const SampleTarget& tg, int px, int py,
+              float& depth, raster::Fragment* f, float* out) {
+  ScreenVert s[3];
+  uint32_t orFlags = 0, andFlags = ~0u;
+  for (int k = 0; k < 3; ++k) {
+    s[k] = raster::projectVertex(c[k].x, c[k].y, c[k].z, c[k].w, tg.vp, tg.guard);
+    orFlags |= s[k].flags;
+    andFlags &= s[k].flags;
+  }
+  if (orFlags & raster::kNonFinite) return false;
+  if (andFlags & raster::kFrustumMask) return false;
+  if (!(orFlags & raster::kNeedsClip)) {
+    if (!insideSnapped(s[0], s[1], s[2], tg.cull, px, py)) return false;
+    raster::SetupTri t;
+    raster::SetupAttr a;
+    int order[3];
+    if (raster::setupTriangle(s[0], s[1], s[2], tg.cull, tg.vp, t, kFragment ? &a : nullptr, order) !=
+        raster::SetupResult::Ok)
+      return false;
+    depth = raster::depthAt(t, px, py);
+    if constexpr (kFragment) {
+      const float* v[3] = {vary[order[0]], vary[order[1]], vary[order[2]]};
+      float b[3];
+      interpolate(t, a, v, nv, px, py, out, b);
+      float sb[3];
+      sb[order[0]] = b[0], sb[order[1]] = b[1], sb[order[2]] = b[2];
+      f->b0 = sb[0], f->b1 = sb[1], f->b2 = sb[2];
+      f->frontFacing = a.frontFacing;
+    }
+    return true;
+  }
+  // Homogeneous clipping in double, as the pipeline's front end: position, varyings, then the
+  // barycentrics of the submitted triangle; the polygon is drawn as a fan from its first vertex.
+  const int stride = nv + 3;
+  double in[3][raster::kClipStride];
+  const double* inPtr[3];
+  for (int k = 0; k < 3; ++k) {
+    in[k][0] = c[k].x, in[k][1] = c[k].y, in[k][2] = c[k].z, in[k][3] = c[k].w;
+    for (int i = 0; i < nv; ++i) in[k][4 + i] = vary[k][i];
+    for (int e = 0; e < 3; ++e) in[k][4 + nv + e] = e == k ? 1.0 : 0.0;
+    inPtr[k] = in[k];
+  }
+  double poly[raster::kMaxClipVerts * raster::kClipStride];
+  const int n = raster::clipTriangle(inPtr, stride, tg.guard, poly);
+  if (n < 3) return false;
+  ScreenVert sv[raster::kMaxClipVerts];
+  for (int i = 0; i < n; ++i) {
+    sv[i] = raster::projectClipped(poly + i * raster::kClipStride, tg.vp);
+    if (sv[i].flags & raster::kOutGuard) return false;
+  }
+  for (int i = 1; i + 1 < n; ++i) {
+    if (!insideSnapped(sv[0], sv[i], sv[i + 1], tg.cull, px, py)) continue;
+    raster::SetupTri t;
+    raster::SetupAttr a;
+    int order[3];
+    if (raster::setupTriangle(sv[0], sv[i], sv[i + 1], tg.cull, tg.vp, t, kFragment ? &a : nullptr, order) !=
+        raster::SetupResult::Ok)
+      continue;
+    depth = raster::depthAt(t, px, py);
+    if constexpr (kFragment) {
+      // The pipeline keeps the clipped vertices' varyings as float.
+      const int ref[3] = {0, i, i + 1};
+      float vk[3][raster::kMaxVaryings + 3];
+      const float* v[3];
+      for (int k = 0; k < 3; ++k) {
+        const double* p = poly + ref[order[k]] * raster::kClipStride;
+        for (int ch = 0; ch < stride; ++ch) vk[k][ch] = static_cast<float>(p[4 + ch]);
+        v[k] = vk[k];
+      }
+      float b[3];
+      interpolate(t, a, v, stride, px, py, out, b);
+      f->b0 = out[nv], f->b1 = out[nv + 1], f->b2 = out[nv + 2];
+      f->frontFacing = a.frontFacing;
+    }
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool sampleCoverage(const glm::vec4 c[3], const SampleTarget& target, int px, int py, float& depth) {
+  return evaluate<false>(c, nullptr, 0, target, px, py, depth, nullptr, nullptr);
+}
+
+bool sampleFragment(const glm::vec4 c[3], const float* const vary[3], int nv, const SampleTarget& target, int px,
+                    int py, raster::Fragment& f, float* out) {
+  float depth = 0.0f;
+  if (!evaluate<true>(c, vary, nv, target, px, py, depth, &f, out)) return false;
+  f.x = px, f.y = py;
+  f.depth = depth;
+  f.varyings = out;
+  return true;
+}
+
+}  // namespace penumbra::stochastic

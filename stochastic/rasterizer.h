@@ -1,0 +1,135 @@
+// The stochastic rasterizer: time-continuous triangles seen through a thin lens, S samples per
+// pixel, an exact test per sample (coverage.h), a per-sample depth test, and a resolve of each
+// pixel's samples into at most kMaxLayers surfaces with their sample counts (a box filter).
+//
+// Stages, like the main pipeline's (DESIGN.md "Stochastic rasterization"):
+//   setup    per triangle, in parallel: the bound of the chosen method (bounds.h) and, for the
+//            interval method, one rectangle per stratum.
+//   bin      triangles to 64x64 tiles by their footprint, in submission order.
+//   tile     one TBB task per tile: the tile's samples (sample_pattern.h) in a tile-local buffer
+//            (depth, what covers it), initialised from the static layer; each triangle tests the
+//            samples its bound admits, in submission order; then the resolve.
+// Bounding methods (BoundMethod): Box, the footprint over the whole shutter and lens; Interval,
+// the shutter cut into T strata and the lens square into L x L cells, each with its own footprint,
+// tested only against the samples inside it; DualSpace, per 8x8 block the times and lens
+// positions at which the triangle may overlap the block (Laine et al. 2011). All three give the
+// same bits; only the number of tests differs (sample test efficiency, STE = hits / tests).
+// A static triangle seen through a pinhole (c0 == c1, no lens) covers all or none of a pixel's
+// samples (they share the pixel centre): one test serves them all (counted as one test).
+//
+// Determinism: a tile is owned by one task; triangles are visited in submission order; counters
+// are integers summed in tile order: same bits and same counts at any thread count.
+// Thread-safety: a StochasticRasterizer is not thread-safe (one render at a time). Invalid
+// arguments throw std::invalid_argument.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <glm/vec4.hpp>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "raster/depth_target.h"
+#include "raster/image.h"
+#include "raster/pipeline.h"
+#include "stochastic/bounds.h"
+#include "stochastic/coverage.h"
+#include "stochastic/sample_pattern.h"
+
+namespace penumbra::stochastic {
+
+enum class BoundMethod : uint8_t { Box, Interval, DualSpace };
+const char* boundMethodName(BoundMethod m);
+bool parseBoundMethod(const std::string& name, BoundMethod& m);  // "box", "interval", "dual"
+
+inline constexpr int kMaxLayers = 3;
+inline constexpr uint32_t kStaticSurface = 0xFFFFFFFEu;  // the static layer's texel of the pixel
+inline constexpr uint32_t kNoTriangle = 0xFFFFFFFFu;
+
+struct StochasticInput {
+  std::span<const glm::vec4> clip0, clip1;  // per vertex: clip position at shutter open and close
+  std::span<const uint32_t> indices;        // 3 per triangle
+  std::span<const uint32_t> surface;        // per triangle: what the resolve groups samples by
+  raster::CullMode cull = raster::CullMode::None;
+  ThinLens lens;
+  bool motion = true;  // false: clip1 is ignored (defocus only)
+};
+
+// What was already drawn by the ordinary path (static geometry through a pinhole): per pixel its
+// depth (all the pixel's samples share it) and whether a surface is there.
+struct StaticLayer {
+  const raster::DepthTarget* depth = nullptr;
+  const raster::Image<uint8_t>* covered = nullptr;
+};
+
+struct StochasticConfig {
+  BoundMethod method = BoundMethod::DualSpace;
+  int timeStrata = 0;  // interval method: shutter strata, [1, 64]; 0: 8 (4 with a lens)
+  int lensStrata = 0;  // interval method: lens cells per axis, [1, 8]; 0: 3 (1 without a lens)
+  bool staticShortcut = true;  // one test per pixel for static triangles seen through a pinhole
+  SamplePattern pattern;
+};
+
+struct ResolvedLayer {
+  uint32_t surface = 0;      // StochasticInput::surface of the triangle, or kStaticSurface
+  uint16_t count = 0;        // samples of the pixel on this surface
+  uint16_t sample = 0;       // the representative sample: the median one in time
+  uint32_t triangle = 0;     // the triangle that covers it (kNoTriangle for the static layer)
+  Sample at;                 // its time and lens position
+};
+struct ResolvedPixel {
+  uint16_t background = 0;   // samples that hit nothing
+  uint8_t layers = 0;        // surfaces, largest count first (ties: smaller surface id first)
+  ResolvedLayer layer[kMaxLayers];
+  // A pixel seeing more than kMaxLayers surfaces adds the rest's counts to layer 0 (rare: counted
+  // in StochasticStats::pixelsMerged).
+};
+
+struct StochasticStats {
+  uint64_t triangles = 0, trianglesStatic = 0, trianglesDropped = 0, trianglesOffscreen = 0;
+  uint64_t bounds = 0;             // rectangles set up (strata for the interval method)
+  uint64_t blocksCulled = 0;       // dual space: 8x8 blocks whose (t, u, v) bound was empty
+  uint64_t samplesScanned = 0;     // samples whose (t, u, v) was compared with a bound
+  uint64_t tests = 0;              // exact coverage tests
+  uint64_t hits = 0;               // tests that found the sample covered
+  uint64_t staticShared = 0;       // samples decided by a test shared with the pixel's others
+  uint64_t depthPassed = 0;
+  uint64_t pixelsMerged = 0;
+  int spp = 0;
+  uint64_t samples = 0;            // width * height * spp
+  double msSetup = 0, msRaster = 0, msTotal = 0;
+  double ste() const { return tests ? static_cast<double>(hits) / static_cast<double>(tests) : 0.0; }
+  std::string report(const std::string& method) const;
+};
+
+// Optional outputs for tests, pictures and reports.
+struct StochasticDebug {
+  std::vector<uint32_t>* sampleTriangle = nullptr;  // per sample (pixel-major, S per pixel): what covers it
+  std::vector<float>* sampleDepth = nullptr;        // per sample: its depth
+  std::vector<uint32_t>* testsPerPixel = nullptr;   // per pixel: exact tests
+  std::vector<uint32_t>* testsPerTriangle = nullptr;
+  std::vector<uint32_t>* hitsPerTriangle = nullptr;
+};
+
+// Called once per pixel after its resolve, from the tile's task (concurrently for distinct tiles):
+// the pixel, its layers, what covers each of its samples (a triangle index, kStaticSurface or
+// kNoTriangle) and the samples themselves (null when no triangle reached the pixel's tile: then
+// every sample is static or background). The engine turns each layer into a G-buffer texel here.
+using PixelSink = std::function<void(int x, int y, const ResolvedPixel& pixel, const uint32_t* sampleRef,
+                                     const Sample* samples)>;
+
+class StochasticRasterizer {
+ public:
+  // Runs in the raster's TBB arena (its thread count).
+  explicit StochasticRasterizer(raster::Rasterizer& raster) : raster_(raster) {}
+
+  StochasticStats render(const StochasticInput& in, const StochasticConfig& config, const StaticLayer& base,
+                         raster::Image<ResolvedPixel>& out, const StochasticDebug& debug = {},
+                         const PixelSink* sink = nullptr);
+
+ private:
+  raster::Rasterizer& raster_;
+};
+
+}  // namespace penumbra::stochastic

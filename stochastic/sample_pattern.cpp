@@ -1,0 +1,86 @@
+#include "stochastic/sample_pattern.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace penumbra::stochastic {
+
+uint64_t sampleHash(uint64_t a, uint64_t b, uint64_t c) {
+  uint64_t h = a * 0x9E3779B97F4A7C15ull ^ (b + 0x632BE59BD9B4E019ull) * 0xC2B2AE3D27D4EB4Full ^
+               (c + 0x165667B19E3779F9ull) * 0x27D4EB2F165667C5ull;
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdull;
+  h ^= h >> 33;
+  h *= 0xc4ceb9fe1a85ec53ull;
+  h ^= h >> 33;
+  return h;
+}
+
+namespace {
+
+// Shirley-Chiu concentric map from [0, 1)^2 to the unit disk (area preserving, low distortion).
+void concentric(float a, float b, float& u, float& v) {
+  const float x = 2.0f * a - 1.0f, y = 2.0f * b - 1.0f;
+  if (x == 0.0f && y == 0.0f) {
+    u = v = 0.0f;
+    return;
+  }
+  constexpr float kQuarter = std::numbers::pi_v<float> / 4.0f;
+  float r, phi;
+  if (std::abs(x) > std::abs(y)) {
+    r = x;
+    phi = kQuarter * (y / x);
+  } else {
+    r = y;
+    phi = 2.0f * kQuarter - kQuarter * (x / y);
+  }
+  u = r * std::cos(phi);
+  v = r * std::sin(phi);
+}
+
+float fract(float x) { return x - std::floor(x); }
+
+}  // namespace
+
+void pixelSamples(const SamplePattern& p, int x, int y, Sample* out) {
+  const int s = p.spp;
+  if (p.fixed) {
+    for (int k = 0; k < s; ++k) out[k] = *p.fixed;
+    return;
+  }
+  const uint64_t pixel = (static_cast<uint64_t>(static_cast<uint32_t>(y)) << 32) | static_cast<uint32_t>(x);
+  // Per-pixel permutation of the lens points (Fisher-Yates driven by the hash).
+  int perm[kMaxSpp];
+  for (int k = 0; k < s; ++k) perm[k] = k;
+  for (int k = s - 1; k > 0; --k) {
+    const uint64_t h = sampleHash(pixel, p.frame, 0x100u + static_cast<uint64_t>(k));
+    const int j = static_cast<int>((h >> 32) % static_cast<uint64_t>(k + 1));
+    const int tmp = perm[k];
+    perm[k] = perm[j];
+    perm[j] = tmp;
+  }
+  const uint64_t shift = sampleHash(pixel, p.frame, 1);
+  const float su = unitFloat(shift), sv = unitFloat(shift << 24);
+  constexpr double kG = 1.32471795724474602596;  // plastic number: R2 uses 1/g and 1/g^2
+  const float a1 = static_cast<float>(1.0 / kG), a2 = static_cast<float>(1.0 / (kG * kG));
+  for (int k = 0; k < s; ++k) {
+    Sample& o = out[k];
+    if (p.motion) {
+      const float jitter = unitFloat(sampleHash(pixel, p.frame, 0x10000u + static_cast<uint64_t>(k)));
+      const float t = (static_cast<float>(k) + jitter) / static_cast<float>(s);
+      // Rounding may give (k + ~1) / S == (k + 1) / S: keep the sample inside its stratum, below 1.
+      const float hi = std::nextafter(static_cast<float>(k + 1) / static_cast<float>(s), 0.0f);
+      o.t = t < hi ? t : hi;
+    } else {
+      o.t = 0.0f;
+    }
+    if (p.lens) {
+      const float i = static_cast<float>(perm[k]) + 0.5f;
+      concentric(fract(i * a1 + su), fract(i * a2 + sv), o.u, o.v);
+    } else {
+      o.u = o.v = 0.0f;
+    }
+  }
+}
+
+}  // namespace penumbra::stochastic

@@ -1,0 +1,50 @@
+// The samples of a pixel: S samples (1 to kMaxSpp), each at the pixel centre (x, y) with a time t
+// in [0, 1) and a lens position (u, v) in the unit disk. Deterministic: a counter-based hash of
+// (pixel, sample, frame), no global random state, identical across runs and thread counts.
+//
+// Time is stratified (jittered): sample k of a pixel has t in [k/S, (k+1)/S), so the samples of a
+// pixel are sorted by time and a time interval [t0, t1] maps to the index range
+// [floor(t0 S), floor(t1 S)]; the bounding methods rely on this. The lens points are a 2D
+// low-discrepancy set (the R2 sequence of Roberts, 2018) with a per-pixel random shift (a
+// Cranley-Patterson rotation), mapped to the disk by Shirley and Chiu's concentric map; which lens
+// point goes with which time stratum is a per-pixel random permutation, so time and lens are
+// decorrelated (a fixed pairing would turn motion into a shear of the defocus).
+//
+// Why pixel centres (no x, y jitter): the main pipeline samples pixel centres, so a static triangle
+// seen through a pinhole covers all or none of a pixel's samples and takes the ordinary path (one
+// coverage test shared by all of them), and a frame with no motion and a pinhole is the ordinary
+// frame bit for bit. Spatial antialiasing is not this module's subject.
+//
+// Pure functions; safe from any thread.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+namespace penumbra::stochastic {
+
+inline constexpr int kMaxSpp = 64;
+
+struct Sample {
+  float t = 0.0f;            // shutter time in [0, 1); 0 when there is no motion
+  float u = 0.0f, v = 0.0f;  // lens position in the unit disk; 0 for a pinhole
+};
+
+struct SamplePattern {
+  int spp = 16;                 // samples per pixel, [1, kMaxSpp]
+  uint32_t frame = 0;           // seeds the hash: another frame, other samples
+  bool motion = true;           // draw times (else t = 0)
+  bool lens = true;             // draw lens positions (else u = v = 0)
+  // Every sample at this (t, u, v) instead (tests: the stochastic rasterizer then renders the
+  // triangle at one time and lens position, which the main pipeline can render too).
+  std::optional<Sample> fixed;
+};
+
+// The S samples of pixel (x, y), sorted by time, into out[0 .. spp).
+void pixelSamples(const SamplePattern& p, int x, int y, Sample* out);
+
+// Counter-based hash (the murmur3 64-bit finalizer over a mixed key) and a float in [0, 1).
+uint64_t sampleHash(uint64_t a, uint64_t b, uint64_t c);
+inline float unitFloat(uint64_t h) { return static_cast<float>(h >> 40) * (1.0f / 16777216.0f); }
+
+}  // namespace penumbra::stochastic
