@@ -13,6 +13,7 @@
 #include "engine/scene_file.h"
 #include "raster/conventions.h"
 #include "shadows/technique.h"
+#include "stochastic/rasterizer.h"
 
 namespace penumbra::apps {
 
@@ -112,6 +113,19 @@ int runRender(const RenderArgs& a) {
   if (!output.empty()) checkFolder(output);
   if (!a.exr.empty()) checkFolder(a.exr);
   checkPointOptions(a);
+  if (a.spp < 1 || a.spp > stochastic::kMaxSpp) fail("option --spp", "must be in [1, 64]");
+  stochastic::BoundMethod bounds;
+  if (!stochastic::parseBoundMethod(a.bounds, bounds)) fail("option --bounds", "must be box, interval or dual");
+  int timeStrata = 0, lensStrata = 0;
+  if (!a.strata.empty()) {
+    char extra = 0;
+    const int n = std::sscanf(a.strata.c_str(), "%d,%d%c", &timeStrata, &lensStrata, &extra);
+    if (n < 1 || n > 2 || timeStrata < 1 || timeStrata > 64 || (n == 2 && (lensStrata < 1 || lensStrata > 8)))
+      fail("option --strata", "must be T or T,L with T in [1, 64] and L in [1, 8]");
+  }
+  if (a.frame < 0 || a.frame > 0xFFFFFFFFll) fail("option --frame", "must be in [0, 2^32)");
+  if (a.aperture != -1.0 && !(a.aperture >= 0.0 && a.aperture < 1e6)) fail("option --aperture", "must be in [0, 1e6)");
+  if (a.focus != -1.0 && !(a.focus > 0.0 && a.focus < 1e9)) fail("option --focus", "must be in (0, 1e9)");
 
   allowThreads(a.threads);
   Progress progress("render", 2.0);
@@ -136,12 +150,20 @@ int runRender(const RenderArgs& a) {
   options.shadow = a.shadow;
   options.shadowParams = shadowParams;
   options.cacheDir = a.cache;
-  if (eye || target || a.fov != 0.0) {
+  options.spp = a.spp;
+  options.bounds = bounds;
+  options.timeStrata = timeStrata;
+  options.lensStrata = lensStrata;
+  options.frame = static_cast<uint32_t>(a.frame);
+  options.staticPath = !a.noStaticPath;
+  if (eye || target || a.fov != 0.0 || a.aperture >= 0.0 || a.focus > 0.0) {
     engine::RenderOptions base = options;
     engine::Camera cam = engine::chooseCamera(*scene, base);
     if (eye) cam.eye = *eye;
     if (target) cam.target = *target;
     if (a.fov != 0.0) cam.fovYDegrees = static_cast<float>(a.fov);
+    if (a.aperture >= 0.0) cam.apertureRadius = static_cast<float>(a.aperture);
+    if (a.focus > 0.0) cam.focusDistance = static_cast<float>(a.focus);
     if (cam.eye == cam.target) fail("option --eye", "camera eye and target coincide");
     options.camera = cam;
   }

@@ -26,6 +26,13 @@ struct RenderArgs {
   bool points = false;                // draw a point cloud with the splatter instead (cmd_points.cpp)
   std::optional<int64_t> pointCount;  // points sampled from the scene, [1, 2^26]; none: 2,000,000
   std::string pointsFile;             // .xyz file of points instead of sampling the scene
+  // Motion blur and depth of field (the stochastic pass, when the scene moves or has a lens).
+  int spp = 16;                       // samples per pixel [1, 64]
+  std::string bounds = "dual";        // box, interval, dual
+  std::string strata;                 // interval bounds "T" or "T,L" (time strata, lens cells per axis)
+  int64_t frame = 0;                  // seeds the sample pattern, [0, 2^32)
+  bool noStaticPath = false;          // static instances through the stochastic pass too
+  double aperture = -1.0, focus = -1.0;  // override the camera's lens (< 0: the scene's)
 };
 int runRender(const RenderArgs& args);
 // render --points: checks the point options (and that none is given without --points), then, once

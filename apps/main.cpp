@@ -54,6 +54,15 @@ int main(int argc, char** argv) {
                 "Text file of points, one 'x y z' or 'x y z r g b' (0..255) per line; camera fitted to them "
                 "unless a scene is named");
 
+  r->add_option("--spp", render.spp, "Samples per pixel of the stochastic pass (motion blur, depth of field) [1, 64]");
+  r->add_option("--bounds", render.bounds, "Stochastic bounding method: box, interval or dual (default dual)");
+  r->add_option("--strata", render.strata, "Interval bounds: time strata T [1, 64] or T,L with L lens cells per axis [1, 8]");
+  r->add_option("--frame", render.frame, "Frame number seeding the sample pattern [0, 2^32)");
+  r->add_flag("--no-static-path", render.noStaticPath,
+              "Send static instances through the stochastic pass too (to measure what the ordinary path saves)");
+  r->add_option("--aperture", render.aperture, "Lens aperture radius in world units (0 = pinhole; default: the scene's)");
+  r->add_option("--focus", render.focus, "Focus distance in world units (> 0; default: the scene's)");
+
   BenchRasterArgs bench;
   CLI::App* b = app.add_subcommand("bench", "Benchmarks");
   b->require_subcommand(1);

@@ -196,6 +196,95 @@ Scene makeBigLight() {
   return s;
 }
 
+// --- Stochastic rasterization scenes ----------------------------------------------------------
+// Motion blur, depth of field and both (docs/stochastic.md). A textured ground and static props
+// stay on the ordinary path; what moves (or, with a lens, everything) takes the stochastic pass.
+
+Scene stochasticStage(const std::string& name, glm::vec3 eye, glm::vec3 target) {
+  Scene s;
+  s.name = name;
+  const int checker = addChecker(s, 256, 16, {200, 198, 190, 255}, {70, 74, 84, 255});
+  Mesh ground = makePlane(24.0f, 24.0f, 8);
+  for (glm::vec2& uv : ground.texcoords) uv *= 3.0f;
+  addObject(s, "ground", std::move(ground), addMaterial(s, "ground", glm::vec3(1.0f), 0.05f, 16.0f, checker),
+            glm::mat4(1.0f));
+  Camera cam;
+  cam.eye = eye;
+  cam.target = target;
+  cam.fovYDegrees = 40.0f;
+  s.camera = cam;
+  s.ambient = glm::vec3(0.08f, 0.085f, 0.1f);
+  s.background = glm::vec3(0.32f, 0.42f, 0.55f);
+  addAreaLight(s, {-2.0f, 7.0f, 2.0f}, {0.3f, -1.0f, -0.3f}, 2.5f, 2.5f, {1.0f, 0.96f, 0.9f}, 18.0f);
+  return s;
+}
+
+void moving(Scene& s, const glm::mat4& close) { s.instances.back().transformClose = close; }
+
+// Objects moving fast across the view past static props: a box sliding a quarter of the screen, a
+// ball flying towards the camera, a spinning wheel (a quarter turn); columns and a 32,000-triangle
+// rock stay still.
+void addMovers(Scene& s, float dx) {
+  addObject(s, "sliding box", makeBox({1.2f, 0.8f, 0.8f}), addMaterial(s, "red paint", {0.8f, 0.15f, 0.1f}, 0.4f, 64.0f),
+            at({-2.4f + dx, 0.4f, 0.8f}, 10.0f));
+  moving(s, at({0.4f + dx, 0.4f, 0.8f}, 10.0f));
+  addObject(s, "flying ball", makeSphere(0.5f, 32, 64), addMaterial(s, "white", {0.9f, 0.9f, 0.86f}, 0.6f, 96.0f),
+            at({1.6f + dx, 1.9f, -2.2f}));
+  moving(s, at({0.9f + dx, 1.4f, 0.6f}));
+  glm::mat4 wheel = glm::translate(glm::mat4(1.0f), {2.6f + dx, 1.3f, -0.6f});
+  wheel = glm::rotate(wheel, 90.0f * kDeg, glm::vec3(1, 0, 0));
+  addObject(s, "spinning wheel", makeTorus(0.8f, 0.18f, 64, 24), addMaterial(s, "gold", {0.85f, 0.62f, 0.18f}, 0.8f, 96.0f),
+            wheel);
+  moving(s, glm::rotate(wheel, 90.0f * kDeg, glm::vec3(0, 1, 0)));
+  addObject(s, "spokes", makeBox({1.5f, 0.08f, 0.12f}), s.meshes.back().material, wheel);
+  moving(s, glm::rotate(wheel, 90.0f * kDeg, glm::vec3(0, 1, 0)));
+}
+
+Scene makeMotion() {
+  Scene s = stochasticStage("motion", {0.0f, 2.6f, 8.0f}, {0.0f, 0.9f, 0.0f});
+  const int stone = addMaterial(s, "stone", {0.62f, 0.6f, 0.56f});
+  for (int i = 0; i < 3; ++i)
+    addObject(s, "column " + std::to_string(i), makeCylinder(0.3f, 2.8f, 48), stone,
+              at({-3.6f + 3.6f * static_cast<float>(i), 1.4f, -2.0f}));
+  Mesh rock = makeSphere(0.7f, 100, 160);
+  for (glm::vec3& p : rock.positions) p *= 1.0f + 0.12f * std::sin(9.0f * p.x) * std::sin(8.0f * p.y + 1.0f) * std::sin(9.0f * p.z);
+  computeNormals(rock);
+  addObject(s, "rock", std::move(rock), stone, at({-2.8f, 0.6f, -0.6f}));
+  addMovers(s, 0.0f);
+  return s;
+}
+
+// A row of objects receding from the camera, focus on the middle one.
+void addRow(Scene& s) {
+  const int a = addMaterial(s, "teal", {0.1f, 0.55f, 0.6f}, 0.4f, 64.0f);
+  const int b = addMaterial(s, "orange", {0.85f, 0.45f, 0.12f}, 0.4f, 64.0f);
+  for (int i = 0; i < 9; ++i) {
+    const glm::vec3 p(-1.6f + 0.55f * static_cast<float>(i), 0.5f, 3.0f - 2.2f * static_cast<float>(i));
+    if (i % 2 == 0)
+      addObject(s, "ball " + std::to_string(i), makeSphere(0.5f, 32, 64), a, at(p));
+    else
+      addObject(s, "box " + std::to_string(i), makeBox(glm::vec3(0.8f)), b, at(p + glm::vec3(0.0f, -0.1f, 0.0f), 30.0f));
+  }
+}
+
+Scene makeDefocus() {
+  Scene s = stochasticStage("defocus", {-1.2f, 1.5f, 7.0f}, {0.6f, 0.6f, -5.8f});
+  addRow(s);
+  // Focus on ball 4 (the middle of the row).
+  const glm::vec3 focus(-1.6f + 0.55f * 4.0f, 0.5f, 3.0f - 2.2f * 4.0f);
+  const glm::vec3 view = glm::normalize(s.camera->target - s.camera->eye);
+  s.camera->focusDistance = glm::dot(focus - s.camera->eye, view);
+  s.camera->apertureRadius = 0.12f;
+  return s;
+}
+
+Scene makeMotionDefocus() {
+  Scene s = makeDefocus();
+  s.name = "motion-defocus";
+  addMovers(s, 0.6f);
+  return s;
+}
+
 Scene makeSynth(long tris) {
   Scene s;
   s.name = "synth" + std::to_string(tris / 1000000) + "m";
@@ -214,6 +303,9 @@ std::vector<BuiltinInfo> builtinScenes() {
           {"thin", "shadow bench (c): a fence of thin slats, poles and a wire"},
           {"complex", "shadow bench (d): a displaced sphere of 128,000 triangles with self-shadowing (and one above the light)"},
           {"biglight", "shadow bench (e): a large light close to the objects"},
+          {"motion", "motion blur: a box, a ball and a wheel moving fast past static columns and a rock"},
+          {"defocus", "depth of field: a row of objects receding from the camera, focus on the middle one"},
+          {"motion-defocus", "both: the defocus row with the moving objects of 'motion' (5D)"},
           {"synth1m", "the synthetic benchmark mesh of WORKLOADS.md: 8x8 UV spheres, 999,936 triangles"},
           {"synth4m", "the synthetic benchmark mesh of WORKLOADS.md: 8x8 UV spheres, 3,968,000 triangles"}};
 }
@@ -226,6 +318,9 @@ Result<Scene> makeBuiltinScene(const std::string& name) {
   else if (name == "thin") s = makeThin();
   else if (name == "complex") s = makeComplex();
   else if (name == "biglight") s = makeBigLight();
+  else if (name == "motion") s = makeMotion();
+  else if (name == "defocus") s = makeDefocus();
+  else if (name == "motion-defocus") s = makeMotionDefocus();
   else if (name == "synth1m") s = makeSynth(1000000);
   else if (name == "synth4m") s = makeSynth(4000000);
   else {

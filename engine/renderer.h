@@ -25,6 +25,7 @@
 #include "engine/scene.h"
 #include "raster/pipeline.h"
 #include "shadows/technique.h"
+#include "stochastic/rasterizer.h"
 
 namespace penumbra::engine {
 
@@ -39,6 +40,18 @@ struct RenderOptions {
   std::string shadowParams;   // "name=value,name=value", checked against the technique's parameters
   std::string cacheDir;       // where techniques may cache results ("" = none)
   bool shadowCulling = true;  // cull casters outside each light's region (off: to measure the saving)
+  // Motion blur and depth of field: the stochastic pass (stochastic/), taken when a visible
+  // instance moves or the camera has an aperture.
+  int spp = 16;  // samples per pixel, [1, stochastic::kMaxSpp]
+  stochastic::BoundMethod bounds = stochastic::BoundMethod::DualSpace;
+  int timeStrata = 0, lensStrata = 0;  // interval bounds (0: the defaults of StochasticConfig)
+  uint32_t frame = 0;                  // seeds the sample pattern
+  bool staticPath = true;         // static instances seen through a pinhole take the ordinary G-buffer pass
+  bool forceStochastic = false;   // a stochastic pass even with no motion and a pinhole (tests)
+  // Instead of a stochastic pass, the pinhole frame at one shutter time and lens position: every
+  // instance at time t, the camera looking through lens point (u, v). Averaging many of these is
+  // the accumulation-buffer reference of motion blur and depth of field.
+  std::optional<stochastic::Sample> at;
 };
 
 // What the shadow computation of one area light did.
@@ -72,6 +85,14 @@ struct FrameStats {
   std::vector<LightShadowStats> shadows;  // one per area light
   double msCull = 0, msGbuffer = 0, msShadows = 0, msShade = 0, msTotal = 0;
   std::string cameraSource;  // "scene", "options" or "fitted to bounds"
+  // The stochastic pass: why it ran or was skipped, what it drew and what it saved.
+  bool stochastic = false;
+  std::string stochasticPlan;
+  size_t instancesMoving = 0, instancesStochastic = 0, trianglesStochastic = 0;
+  size_t instancesOrdinary = 0, trianglesOrdinary = 0;  // drawn by the ordinary pass instead
+  stochastic::StochasticStats stoch;
+  std::string boundMethod;
+  double msStochastic = 0;
   std::string report() const;
 };
 
@@ -80,7 +101,12 @@ struct Frame {
   raster::ImageFloat4 linear; // linear radiance, alpha = coverage
   raster::Image<GBufferTexel> gbuffer;
   raster::DepthTarget depth;
-  std::vector<raster::ImageFloat> visibility;  // per area light: V (1 on background texels)
+  std::vector<raster::ImageFloat> visibility;  // per area light: V (1 on background texels); of layer 0
+  // After a stochastic pass: per pixel the surfaces its samples saw (layer 0 is `gbuffer`, layer l
+  // > 0 is extraLayers[l - 1]) and their sample counts; the color is their coverage-weighted blend.
+  int spp = 0;  // 0: no stochastic pass
+  raster::Image<stochastic::ResolvedPixel> resolved;
+  std::vector<raster::Image<GBufferTexel>> extraLayers;
   FrameStats stats;
   glm::mat4 viewProj{1.0f};
 };

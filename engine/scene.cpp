@@ -12,6 +12,20 @@ size_t Scene::triangleCount() const {
   return n;
 }
 
+glm::mat4 Instance::transformAt(float t) const {
+  if (!transformClose) return transform;
+  glm::mat4 m;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) m[c][r] = transform[c][r] + ((*transformClose)[c][r] - transform[c][r]) * t;
+  return m;
+}
+
+bool Scene::hasMotion() const {
+  for (const Instance& inst : instances)
+    if (inst.moves()) return true;
+  return false;
+}
+
 bool Scene::worldBounds(glm::vec3& lo, glm::vec3& hi) const {
   lo = glm::vec3(std::numeric_limits<float>::max());
   hi = -lo;
@@ -22,9 +36,11 @@ bool Scene::worldBounds(glm::vec3& lo, glm::vec3& hi) const {
     for (int c = 0; c < 8; ++c) {
       const glm::vec3 p((c & 1) ? m.boundsMax.x : m.boundsMin.x, (c & 2) ? m.boundsMax.y : m.boundsMin.y,
                         (c & 4) ? m.boundsMax.z : m.boundsMin.z);
-      const glm::vec3 w = glm::vec3(inst.transform * glm::vec4(p, 1.0f));
-      lo = glm::min(lo, w);
-      hi = glm::max(hi, w);
+      for (const glm::mat4* m2 : {&inst.transform, inst.transformClose ? &*inst.transformClose : &inst.transform}) {
+        const glm::vec3 w = glm::vec3(*m2 * glm::vec4(p, 1.0f));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+      }
       any = true;
     }
   }
@@ -87,7 +103,8 @@ Status validateScene(Scene& scene, const std::string& where) {
       return Error{where, "instance '" + inst.name + "': mesh index out of range"};
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r)
-        if (!std::isfinite(inst.transform[c][r])) return Error{where, "instance '" + inst.name + "': non-finite transform"};
+        if (!std::isfinite(inst.transform[c][r]) || (inst.transformClose && !std::isfinite((*inst.transformClose)[c][r])))
+          return Error{where, "instance '" + inst.name + "': non-finite transform"};
   }
   if (scene.camera) {
     const Camera& cam = *scene.camera;
@@ -97,6 +114,9 @@ Status validateScene(Scene& scene, const std::string& where) {
                         std::isfinite(cam.target.x) && std::isfinite(cam.target.y) && std::isfinite(cam.target.z) &&
                         std::isfinite(cam.up.x) && std::isfinite(cam.up.y) && std::isfinite(cam.up.z);
     if (!finite) return Error{where, "camera position, target or up is not finite"};
+    if (!(cam.apertureRadius >= 0.0f) || !std::isfinite(cam.apertureRadius) || !(cam.focusDistance >= 0.0f) ||
+        !std::isfinite(cam.focusDistance))
+      return Error{where, "camera aperture and focus distance must be finite and >= 0"};
     if (!(glm::length(cam.target - cam.eye) > 0.0f)) return Error{where, "camera eye and target coincide"};
   }
   return Ok{};

@@ -48,7 +48,13 @@ struct Mesh {
 struct Instance {
   std::string name;
   int mesh = 0;
-  glm::mat4 transform{1.0f};  // object to world
+  glm::mat4 transform{1.0f};  // object to world (at shutter open when the instance moves)
+  // Motion: the object-to-world transform at shutter close; every vertex moves on the straight
+  // line between its two positions (so the transform at time t is the element-wise blend
+  // (1 - t) transform + t transformClose). None: static.
+  std::optional<glm::mat4> transformClose{};
+  bool moves() const { return transformClose && *transformClose != transform; }
+  glm::mat4 transformAt(float t) const;
 };
 
 struct Camera {
@@ -58,6 +64,10 @@ struct Camera {
   float fovYDegrees = 45.0f;  // vertical field of view, (0, 180)
   float znear = 0.0f;         // 0: fitted to the scene bounds
   float zfar = 0.0f;          // 0: fitted to the scene bounds
+  // Thin lens (depth of field): aperture radius in world units (0: a pinhole) and the distance
+  // in focus along the view direction (0: the distance from eye to target).
+  float apertureRadius = 0.0f;
+  float focusDistance = 0.0f;
 };
 
 struct DirectionalLight {
@@ -88,6 +98,7 @@ struct Scene {
   glm::vec3 background{0.1f, 0.1f, 0.12f};
 
   size_t triangleCount() const;
+  bool hasMotion() const;
   // World-space bounding box of all instances; false when the scene is empty.
   bool worldBounds(glm::vec3& lo, glm::vec3& hi) const;
 };

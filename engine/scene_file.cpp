@@ -269,22 +269,22 @@ class SceneParser {
     constexpr int kMaxSteps = 4096;  // subdivisions per axis: 4096^2 quads is 33.5 M triangles
     Mesh mesh;
     if (shape == "plane") {
-      checkKeys(e, at, {"shape", "name", "material", "transform", "size", "divisions"}, context);
+      checkKeys(e, at, {"shape", "name", "material", "transform", "motion", "size", "divisions"}, context);
       const glm::vec2 s = size<2>(e, "size", at, 1.0f);
       mesh = makePlane(s.x, s.y, integer(e, "divisions", at, 1, 1, kMaxSteps));
     } else if (shape == "box") {
-      checkKeys(e, at, {"shape", "name", "material", "transform", "size"}, context);
+      checkKeys(e, at, {"shape", "name", "material", "transform", "motion", "size"}, context);
       mesh = makeBox(size<3>(e, "size", at, 1.0f));
     } else if (shape == "sphere") {
-      checkKeys(e, at, {"shape", "name", "material", "transform", "radius", "rings", "segments"}, context);
+      checkKeys(e, at, {"shape", "name", "material", "transform", "motion", "radius", "rings", "segments"}, context);
       mesh = makeSphere(number(e, "radius", at, 0.5f, kPositive), integer(e, "rings", at, 16, 2, kMaxSteps),
                         integer(e, "segments", at, 32, 3, kMaxSteps));
     } else if (shape == "cylinder") {
-      checkKeys(e, at, {"shape", "name", "material", "transform", "radius", "height", "segments"}, context);
+      checkKeys(e, at, {"shape", "name", "material", "transform", "motion", "radius", "height", "segments"}, context);
       mesh = makeCylinder(number(e, "radius", at, 0.5f, kPositive), number(e, "height", at, 1.0f, kPositive),
                           integer(e, "segments", at, 32, 3, kMaxSteps));
     } else if (shape == "torus") {
-      checkKeys(e, at, {"shape", "name", "material", "transform", "major_radius", "minor_radius", "rings", "segments"},
+      checkKeys(e, at, {"shape", "name", "material", "transform", "motion", "major_radius", "minor_radius", "rings", "segments"},
                 context);
       const float major = number(e, "major_radius", at, 0.5f, kPositive);
       const float minor = number(e, "minor_radius", at, 0.125f, kPositive);
@@ -299,13 +299,21 @@ class SceneParser {
     mesh.name = text(e, "name", at, shape + " " + std::to_string(scene_.meshes.size()));
     if (const json* m = find(e, "material")) material(*m, member(at, "material"), mesh);
     const glm::mat4 m = transform(e, at);
-    scene_.instances.push_back(Instance{mesh.name, static_cast<int>(scene_.meshes.size()), m});
+    Instance inst{mesh.name, static_cast<int>(scene_.meshes.size()), m, std::nullopt};
+    // "motion": the transform at shutter close (same keys as "transform"); "transform" is at open.
+    if (const json* mo = find(e, "motion")) {
+      requireObject(*mo, member(at, "motion"));
+      json wrapper = json::object();
+      wrapper["transform"] = *mo;
+      inst.transformClose = transform(wrapper, member(at, "motion"));
+    }
+    scene_.instances.push_back(std::move(inst));
     scene_.meshes.push_back(std::move(mesh));
   }
 
   void camera(const json& e, const std::string& at) {
     requireObject(e, at);
-    checkKeys(e, at, {"eye", "target", "up", "fov_deg", "near", "far"});
+    checkKeys(e, at, {"eye", "target", "up", "fov_deg", "near", "far", "aperture", "focus_distance"});
     Camera c;
     c.eye = vec3(e, "eye", at, c.eye, kAny);
     c.target = vec3(e, "target", at, c.target, kAny);
@@ -313,6 +321,8 @@ class SceneParser {
     c.fovYDegrees = number(e, "fov_deg", at, c.fovYDegrees, Range{0.0, 180.0, true, true});
     c.znear = number(e, "near", at, 0.0f, kNonNegative);
     c.zfar = number(e, "far", at, 0.0f, kNonNegative);
+    c.apertureRadius = number(e, "aperture", at, 0.0f, kNonNegative);
+    c.focusDistance = number(e, "focus_distance", at, 0.0f, kNonNegative);
     if (c.znear > 0.0f && c.zfar > 0.0f && !(c.zfar > c.znear)) invalid(member(at, "far") + " must be > near");
     const glm::vec3 view = c.target - c.eye;
     if (!(glm::length(view) > 0.0f)) invalid(member(at, "target") + " must differ from eye");
