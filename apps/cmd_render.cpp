@@ -124,6 +124,8 @@ int runRender(const RenderArgs& a) {
       fail("option --strata", "must be T or T,L with T in [1, 64] and L in [1, 8]");
   }
   if (a.frame < 0 || a.frame > 0xFFFFFFFFll) fail("option --frame", "must be in [0, 2^32)");
+  if (a.dualBlock < 1 || a.dualBlock > 64 || (a.dualBlock & (a.dualBlock - 1)) != 0)
+    fail("option --dual-block", "must be a power of 2 in [1, 64]");
   if (a.aperture != -1.0 && !(a.aperture >= 0.0 && a.aperture < 1e6)) fail("option --aperture", "must be in [0, 1e6)");
   if (a.focus != -1.0 && !(a.focus > 0.0 && a.focus < 1e9)) fail("option --focus", "must be in (0, 1e9)");
 
@@ -156,6 +158,7 @@ int runRender(const RenderArgs& a) {
   options.lensStrata = lensStrata;
   options.frame = static_cast<uint32_t>(a.frame);
   options.staticPath = !a.noStaticPath;
+  options.dualBlock = a.dualBlock;
   if (eye || target || a.fov != 0.0 || a.aperture >= 0.0 || a.focus > 0.0) {
     engine::RenderOptions base = options;
     engine::Camera cam = engine::chooseCamera(*scene, base);

@@ -31,6 +31,7 @@ struct RenderArgs {
   std::string bounds = "dual";        // box, interval, dual
   std::string strata;                 // interval bounds "T" or "T,L" (time strata, lens cells per axis)
   int64_t frame = 0;                  // seeds the sample pattern, [0, 2^32)
+  int dualBlock = 4;                  // dual-space block side, power of 2 in [1, 64]
   bool noStaticPath = false;          // static instances through the stochastic pass too
   double aperture = -1.0, focus = -1.0;  // override the camera's lens (< 0: the scene's)
 };

@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
   r->add_option("--spp", render.spp, "Samples per pixel of the stochastic pass (motion blur, depth of field) [1, 64]");
   r->add_option("--bounds", render.bounds, "Stochastic bounding method: box, interval or dual (default dual)");
   r->add_option("--strata", render.strata, "Interval bounds: time strata T [1, 64] or T,L with L lens cells per axis [1, 8]");
+  r->add_option("--dual-block", render.dualBlock, "Dual-space bounds: pixel block side, a power of 2 in [1, 64] (default 4)");
   r->add_option("--frame", render.frame, "Frame number seeding the sample pattern [0, 2^32)");
   r->add_flag("--no-static-path", render.noStaticPath,
               "Send static instances through the stochastic pass too (to measure what the ordinary path saves)");

@@ -482,6 +482,8 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
     cfg.lensStrata = options.lensStrata;
     cfg.pattern.spp = options.spp;
     cfg.pattern.frame = options.frame;
+    cfg.staticShortcut = options.staticShortcut;
+    cfg.dualBlock = options.dualBlock;
     frame.resolved.resize(w, h);
     frame.spp = options.spp;
     layers = stochastic::kMaxLayers;
@@ -567,7 +569,7 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
       }
     };
     stochastic::StochasticRasterizer sr(raster_);
-    st.stoch = sr.render(in, cfg, {&frame.depth, &covered}, frame.resolved, {}, &sink);
+    st.stoch = sr.render(in, cfg, {&frame.depth, &covered}, frame.resolved, options.debug, &sink);
     st.boundMethod = stochastic::boundMethodName(options.bounds);
     st.msStochastic = msSince(ts);
     frame.gbuffer = std::move(layer0);
@@ -705,6 +707,48 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
   st.msShade = msSince(t2);
   st.msTotal = msSince(t0);
   return frame;
+}
+
+raster::ImageFloat4 accumulationReference(Renderer& renderer, const Scene& scene, RenderOptions options, int n) {
+  if (n < 1 || n > 65536) throw std::invalid_argument("accumulation frames must be in [1, 65536]");
+  const int w = options.width, h = options.height;
+  std::vector<glm::dvec4> sum(static_cast<size_t>(w) * static_cast<size_t>(h), glm::dvec4(0.0));
+  auto radicalInverse = [](uint32_t i, uint32_t base) {
+    double inv = 1.0 / base, f = inv, r = 0.0;
+    for (; i > 0; i /= base, f *= inv) r += f * (i % base);
+    return r;
+  };
+  for (int i = 0; i < n; ++i) {
+    stochastic::Sample at;
+    at.t = static_cast<float>((i + 0.5) / n);
+    // Concentric map of (a, b) in [0, 1)^2 to the unit disk (as the sample pattern does).
+    const double a = 2.0 * radicalInverse(static_cast<uint32_t>(i), 2) - 1.0;
+    const double b = 2.0 * radicalInverse(static_cast<uint32_t>(i), 3) - 1.0;
+    double r = 0.0, phi = 0.0;
+    if (a != 0.0 || b != 0.0) {
+      if (std::abs(a) > std::abs(b)) {
+        r = a, phi = std::numbers::pi / 4.0 * (b / a);
+      } else {
+        r = b, phi = std::numbers::pi / 2.0 - std::numbers::pi / 4.0 * (a / b);
+      }
+    }
+    at.u = static_cast<float>(r * std::cos(phi));
+    at.v = static_cast<float>(r * std::sin(phi));
+    options.at = at;
+    const Frame f = renderer.render(scene, options);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const raster::Float4& c = f.linear.at(x, y);
+        sum[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)] += glm::dvec4(c.r, c.g, c.b, c.a);
+      }
+  }
+  raster::ImageFloat4 out(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const glm::dvec4 m = sum[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)] / static_cast<double>(n);
+      out.at(x, y) = {static_cast<float>(m.x), static_cast<float>(m.y), static_cast<float>(m.z), static_cast<float>(m.w)};
+    }
+  return out;
 }
 
 }  // namespace penumbra::engine

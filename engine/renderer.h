@@ -45,13 +45,16 @@ struct RenderOptions {
   int spp = 16;  // samples per pixel, [1, stochastic::kMaxSpp]
   stochastic::BoundMethod bounds = stochastic::BoundMethod::DualSpace;
   int timeStrata = 0, lensStrata = 0;  // interval bounds (0: the defaults of StochasticConfig)
+  int dualBlock = 4;                   // dual-space bounds: block side in pixels (power of 2, <= 64)
   uint32_t frame = 0;                  // seeds the sample pattern
   bool staticPath = true;         // static instances seen through a pinhole take the ordinary G-buffer pass
+  bool staticShortcut = true;     // in the stochastic pass, one test per pixel for a static triangle (pinhole)
   bool forceStochastic = false;   // a stochastic pass even with no motion and a pinhole (tests)
   // Instead of a stochastic pass, the pinhole frame at one shutter time and lens position: every
   // instance at time t, the camera looking through lens point (u, v). Averaging many of these is
   // the accumulation-buffer reference of motion blur and depth of field.
   std::optional<stochastic::Sample> at;
+  stochastic::StochasticDebug debug;  // optional per-sample / per-pixel outputs of the stochastic pass
 };
 
 // What the shadow computation of one area light did.
@@ -116,6 +119,14 @@ struct Frame {
 Camera chooseCamera(const Scene& scene, const RenderOptions& options, std::string* source = nullptr);
 // Projection with znear/zfar fitted to the scene bounds when the camera leaves them at 0.
 glm::mat4 viewProjection(const Camera& camera, const Scene& scene, double aspect);
+
+class Renderer;
+
+// The accumulation-buffer reference of motion blur and depth of field (Haeberli and Akeley 1990):
+// the average of n pinhole frames (RenderOptions::at) at the 3D point set t_i = (i + 0.5) / n,
+// (u_i, v_i) = the concentric disk map of the radical inverses of i in bases 2 and 3. Linear
+// radiance; each pixel summed in double in frame order (deterministic). n in [1, 65536].
+raster::ImageFloat4 accumulationReference(Renderer& renderer, const Scene& scene, RenderOptions options, int n);
 
 class Renderer {
  public:

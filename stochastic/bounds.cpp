@@ -7,7 +7,9 @@ namespace penumbra::stochastic {
 
 namespace {
 
-constexpr double kMarginPixels = 1.0;
+// Snapping moves a vertex by at most 1/512 pixel per axis; float rounding of the clip coordinates
+// (the lerp, the lens shear) adds ~1e-4 pixel on screen and ~1e-3 at the guard band's edge.
+constexpr double kMarginPixels = 1.0 / 64.0;
 constexpr double kRelTol = 1e-6;  // float clip coordinates carry ~6e-8 relative error per operation
 
 struct P4 {

@@ -15,7 +15,8 @@
 //    side of the rectangle excludes an interval of t (and of u, v) where every vertex lies beyond
 //    it; the hull of what is left is the bound.
 //
-// A margin of one pixel covers snapping (1/512 pixel), guard-band clamping and float rounding.
+// A margin of 1/64 pixel covers snapping (1/512 pixel) and float rounding; tests compare every
+// method with testing every sample of the screen (StochasticConfig::exhaustive).
 // Pure functions; safe from any thread.
 #pragma once
 

@@ -31,18 +31,20 @@ bool parseBoundMethod(const std::string& name, BoundMethod& m) {
 }
 
 std::string StochasticStats::report(const std::string& method) const {
-  char buf[768];
+  char buf[1024];
   std::snprintf(buf, sizeof buf,
                 "  stochastic pass (%s bounds, %d spp): %.2f ms (setup and bin %.2f, tiles %.2f)\n"
                 "    triangles %llu: static through a pinhole %llu (one test per pixel for all its samples), "
-                "dropped (non-finite) %llu, off screen %llu; bounds %llu\n"
-                "    samples %llu; scanned %llu, exact tests %llu, hits %llu: STE %.3f; shared static tests decided "
-                "%llu samples; depth passed %llu; dual-space blocks culled %llu; pixels with > %d surfaces %llu\n",
+                "dropped (non-finite) %llu, no pixel centre in reach (off screen or between samples) %llu; bounds %llu\n"
+                "    samples %llu; scanned %llu, exact tests %llu, hits %llu: STE %.3f (per triangle: p10 %.3f, median "
+                "%.3f, p90 %.3f); shared static tests decided %llu samples; depth passed %llu; dual-space blocks culled "
+                "%llu; pixels with > %d surfaces %llu\n",
                 method.c_str(), spp, msTotal, msSetup, msRaster, static_cast<unsigned long long>(triangles),
                 static_cast<unsigned long long>(trianglesStatic), static_cast<unsigned long long>(trianglesDropped),
-                static_cast<unsigned long long>(trianglesOffscreen), static_cast<unsigned long long>(bounds),
+                static_cast<unsigned long long>(trianglesNoSample), static_cast<unsigned long long>(bounds),
                 static_cast<unsigned long long>(samples), static_cast<unsigned long long>(samplesScanned),
-                static_cast<unsigned long long>(tests), static_cast<unsigned long long>(hits), ste(),
+                static_cast<unsigned long long>(tests), static_cast<unsigned long long>(hits), ste(), steTriangleP10,
+                steTriangleMedian, steTriangleP90,
                 static_cast<unsigned long long>(staticShared), static_cast<unsigned long long>(depthPassed),
                 static_cast<unsigned long long>(blocksCulled), kMaxLayers,
                 static_cast<unsigned long long>(pixelsMerged));
@@ -103,6 +105,8 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
   const bool motion = in.motion;
   const int timeStrata = motion ? (cfg.timeStrata > 0 ? cfg.timeStrata : (lens ? 4 : 8)) : 1;
   const int lensStrata = lens ? (cfg.lensStrata > 0 ? cfg.lensStrata : 3) : 1;
+  if (cfg.dualBlock < 1 || cfg.dualBlock > 64 || (cfg.dualBlock & (cfg.dualBlock - 1)) != 0)
+    throw std::invalid_argument("stochastic: the dual-space block side must be a power of two in [1, 64]");
   if (timeStrata > 64 || lensStrata > 8 || cfg.timeStrata < 0 || cfg.lensStrata < 0)
     throw std::invalid_argument("stochastic: interval strata must be in [1, 64] (time) and [1, 8] (lens)");
   const int strata = cfg.method == BoundMethod::Interval ? timeStrata * lensStrata * lensStrata : 1;
@@ -144,7 +148,8 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
           for (int c = 0; c < 4; ++c) valid &= std::isfinite(a[k][c]) && std::isfinite(b[k][c]);
         if (!valid) continue;
         s.isStatic = cfg.staticShortcut && !lens && (!motion || (a[0] == b[0] && a[1] == b[1] && a[2] == b[2]));
-        s.rect = footprint(a, b, Domain{}, in.lens, motion && !s.isStatic, width, height);
+        s.rect = cfg.exhaustive ? PixelRect{0, 0, width - 1, height - 1}
+                                : footprint(a, b, Domain{}, in.lens, motion && !s.isStatic, width, height);
         s.live = !s.rect.empty();
         if (s.live && cfg.method == BoundMethod::Interval && !s.isStatic) {
           for (int ti = 0; ti < timeStrata; ++ti)
@@ -190,7 +195,7 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
           entries[cursor[static_cast<size_t>(ty * tilesX + tx)]++] = static_cast<uint32_t>(tri);
     }
   }
-  // Dropped: invalid index or non-finite; off screen: valid but the footprint holds no pixel.
+  // Dropped: invalid index or non-finite; no sample: valid but the footprint holds no pixel centre.
   for (size_t tri = 0; tri < triCount; ++tri) {
     if (setup[tri].live) continue;
     bool valid = true;
@@ -201,15 +206,19 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
       for (int k = 0; k < 3; ++k)
         for (int c = 0; c < 4; ++c) valid &= std::isfinite(a[k][c]) && std::isfinite(b[k][c]);
     }
-    ++(valid ? stats.trianglesOffscreen : stats.trianglesDropped);
+    ++(valid ? stats.trianglesNoSample : stats.trianglesDropped);
   }
   stats.msSetup = msSince(t0);
 
   if (debug.sampleTriangle) debug.sampleTriangle->assign(stats.samples, kNoTriangle);
   if (debug.sampleDepth) debug.sampleDepth->assign(stats.samples, 1.0f);
   if (debug.testsPerPixel) debug.testsPerPixel->assign(static_cast<size_t>(width) * static_cast<size_t>(height), 0);
-  if (debug.testsPerTriangle) debug.testsPerTriangle->assign(triCount, 0);
-  if (debug.hitsPerTriangle) debug.hitsPerTriangle->assign(triCount, 0);
+  // Per-triangle counts (integers added atomically: the totals do not depend on the schedule).
+  std::vector<uint32_t> ownTests, ownHits;
+  std::vector<uint32_t>& triTestsOut = debug.testsPerTriangle ? *debug.testsPerTriangle : ownTests;
+  std::vector<uint32_t>& triHitsOut = debug.hitsPerTriangle ? *debug.hitsPerTriangle : ownHits;
+  triTestsOut.assign(triCount, 0);
+  triHitsOut.assign(triCount, 0);
 
   // Tile stage.
   const auto t1 = Clock::now();
@@ -289,7 +298,7 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
                   }
                 }
               }
-          } else if (cfg.method == BoundMethod::Box) {
+          } else if (cfg.method == BoundMethod::Box || cfg.exhaustive) {
             for (int y = rr.y0; y <= rr.y1; ++y)
               for (int x = rr.x0; x <= rr.x1; ++x) {
                 const size_t p = pixelIndex(x, y);
@@ -321,9 +330,10 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
                 }
             }
           } else {  // dual space, per 8x8 block
-            for (int by = rr.y0 & ~7; by <= rr.y1; by += 8)
-              for (int bx = rr.x0 & ~7; bx <= rr.x1; bx += 8) {
-                const PixelRect br = intersect(rr, PixelRect{bx, by, bx + 7, by + 7});
+            const int bs = cfg.dualBlock;
+            for (int by = rr.y0 & ~(bs - 1); by <= rr.y1; by += bs)
+              for (int bx = rr.x0 & ~(bs - 1); bx <= rr.x1; bx += bs) {
+                const PixelRect br = intersect(rr, PixelRect{bx, by, bx + bs - 1, by + bs - 1});
                 if (br.empty()) continue;
                 Domain d;
                 if (!dualSpaceDomain(a, b, in.lens, motion, br, width, height, d)) {
@@ -350,10 +360,8 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
           }
           st.tests += triTests;
           st.hits += triHits;
-          if (debug.testsPerTriangle)
-            std::atomic_ref<uint32_t>((*debug.testsPerTriangle)[tri]).fetch_add(static_cast<uint32_t>(triTests));
-          if (debug.hitsPerTriangle)
-            std::atomic_ref<uint32_t>((*debug.hitsPerTriangle)[tri]).fetch_add(static_cast<uint32_t>(triHits));
+          if (triTests) std::atomic_ref<uint32_t>(triTestsOut[tri]).fetch_add(static_cast<uint32_t>(triTests));
+          if (triHits) std::atomic_ref<uint32_t>(triHitsOut[tri]).fetch_add(static_cast<uint32_t>(triHits));
         }
 
         // Resolve: group each pixel's samples by surface.
@@ -421,6 +429,16 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
     });
   });
   for (const StochasticStats& s : tileStats) counters(stats, s);
+  std::vector<double> perTri;
+  for (size_t t = 0; t < triCount; ++t)
+    if (triTestsOut[t] > 0) perTri.push_back(static_cast<double>(triHitsOut[t]) / static_cast<double>(triTestsOut[t]));
+  if (!perTri.empty()) {
+    std::sort(perTri.begin(), perTri.end());
+    auto rank = [&](double q) { return perTri[std::min(perTri.size() - 1, static_cast<size_t>(q * static_cast<double>(perTri.size())))]; };
+    stats.steTriangleP10 = rank(0.1);
+    stats.steTriangleMedian = rank(0.5);
+    stats.steTriangleP90 = rank(0.9);
+  }
   stats.msRaster = msSince(t1);
   stats.msTotal = msSince(t0);
   return stats;

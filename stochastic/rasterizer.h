@@ -68,6 +68,8 @@ struct StochasticConfig {
   int timeStrata = 0;  // interval method: shutter strata, [1, 64]; 0: 8 (4 with a lens)
   int lensStrata = 0;  // interval method: lens cells per axis, [1, 8]; 0: 3 (1 without a lens)
   bool staticShortcut = true;  // one test per pixel for static triangles seen through a pinhole
+  int dualBlock = 4;           // dual space: side of the pixel blocks that get their own bound (power of 2, <= 64)
+  bool exhaustive = false;     // tests: every sample of every pixel for every triangle, no bound at all
   SamplePattern pattern;
 };
 
@@ -87,7 +89,7 @@ struct ResolvedPixel {
 };
 
 struct StochasticStats {
-  uint64_t triangles = 0, trianglesStatic = 0, trianglesDropped = 0, trianglesOffscreen = 0;
+  uint64_t triangles = 0, trianglesStatic = 0, trianglesDropped = 0, trianglesNoSample = 0;
   uint64_t bounds = 0;             // rectangles set up (strata for the interval method)
   uint64_t blocksCulled = 0;       // dual space: 8x8 blocks whose (t, u, v) bound was empty
   uint64_t samplesScanned = 0;     // samples whose (t, u, v) was compared with a bound
@@ -98,6 +100,8 @@ struct StochasticStats {
   uint64_t pixelsMerged = 0;
   int spp = 0;
   uint64_t samples = 0;            // width * height * spp
+  // Per triangle (those tested at least once): STE quantiles, nearest rank.
+  double steTriangleP10 = 0, steTriangleMedian = 0, steTriangleP90 = 0;
   double msSetup = 0, msRaster = 0, msTotal = 0;
   double ste() const { return tests ? static_cast<double>(hits) / static_cast<double>(tests) : 0.0; }
   std::string report(const std::string& method) const;

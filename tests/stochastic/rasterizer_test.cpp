@@ -21,7 +21,7 @@ struct RunResult {
 };
 
 RunResult render(const test::MovingSoup& s, const ThinLens& lens, BoundMethod m, int spp, int threads = 2,
-           bool motion = true, bool shortcut = true) {
+           bool motion = true, bool shortcut = true, bool exhaustive = false) {
   raster::Rasterizer r({.threads = threads});
   StochasticRasterizer sr(r);
   StochasticInput in{s.clip0, s.clip1, s.indices, s.surface, raster::CullMode::None, lens, motion};
@@ -29,6 +29,7 @@ RunResult render(const test::MovingSoup& s, const ThinLens& lens, BoundMethod m,
   cfg.method = m;
   cfg.pattern.spp = spp;
   cfg.staticShortcut = shortcut;
+  cfg.exhaustive = exhaustive;
   raster::Image<ResolvedPixel> out(kW, kH);
   RunResult run;
   StochasticDebug dbg;
@@ -71,10 +72,14 @@ std::vector<Case> cases() {
 TEST(StochasticRasterizer, BoundingMethodsGiveIdenticalImagesAndTheTighterOnesTestFewer) {
   for (const Case& c : cases())
     for (int spp : {4, 16}) {
+      const RunResult all = render(c.soup, c.lens, BoundMethod::Box, spp, 2, true, true, true);
       const RunResult box = render(c.soup, c.lens, BoundMethod::Box, spp);
       const RunResult interval = render(c.soup, c.lens, BoundMethod::Interval, spp);
       const RunResult dual = render(c.soup, c.lens, BoundMethod::DualSpace, spp);
       SCOPED_TRACE(std::string(c.name) + " spp " + std::to_string(spp));
+      // Every bound is conservative: the same samples as testing all of them.
+      expectSameImage(all, box, "box vs every sample");
+      EXPECT_EQ(box.stats.hits, all.stats.hits);
       expectSameImage(box, interval, "interval vs box");
       expectSameImage(box, dual, "dual vs box");
       EXPECT_GT(box.stats.hits, 1000u);
@@ -109,7 +114,7 @@ TEST(StochasticRasterizer, StaticShortcutGivesTheSameSamplesWithOneTestPerPixel)
   const RunResult fast = render(still, ThinLens{}, BoundMethod::Box, 16, 2, true, true);
   const RunResult slow = render(still, ThinLens{}, BoundMethod::Box, 16, 2, true, false);
   expectSameImage(fast, slow, "static shortcut");
-  EXPECT_EQ(fast.stats.trianglesStatic, 80u);
+  EXPECT_EQ(fast.stats.trianglesStatic + fast.stats.trianglesNoSample, 80u);
   EXPECT_EQ(slow.stats.tests, fast.stats.tests * 16);
   EXPECT_EQ(slow.stats.hits, fast.stats.hits * 16);
   EXPECT_EQ(fast.stats.staticShared, slow.stats.hits);
@@ -191,8 +196,9 @@ TEST(StochasticRasterizer, StressCasesStayFiniteAndBounded) {
     EXPECT_LE(run.stats.tests, run.stats.samples * run.stats.triangles);
     EXPECT_GT(run.stats.hits, 0u);
   }
-  const RunResult a = render(s, lens, BoundMethod::Box, 16), b = render(s, lens, BoundMethod::DualSpace, 16);
-  expectSameImage(a, b, "stress: dual vs box");
+  const RunResult all = render(s, lens, BoundMethod::Box, 16, 2, true, true, true);
+  for (BoundMethod m : {BoundMethod::Box, BoundMethod::Interval, BoundMethod::DualSpace})
+    expectSameImage(all, render(s, lens, m, 16), boundMethodName(m));
 }
 
 TEST(SamplePattern, StratifiedInTimeInsideTheDiskAndDeterministic) {

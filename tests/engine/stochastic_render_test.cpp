@@ -1,0 +1,177 @@
+// Frames with motion blur and depth of field: the stochastic pass against the ordinary one, the
+// bounding methods against each other, thread counts, convergence to the accumulation reference,
+// and the ordinary path that static instances keep.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cstring>
+
+#include "engine/builtin_scenes.h"
+#include "engine/metrics.h"
+#include "engine/renderer.h"
+
+namespace penumbra::engine {
+namespace {
+
+std::vector<uint8_t> bytes(const raster::ImageRgba8& img) {
+  std::vector<uint8_t> b;
+  for (const raster::Rgba8& p : img.packed()) b.insert(b.end(), {p.r, p.g, p.b, p.a});
+  return b;
+}
+
+bool sameLinear(const raster::ImageFloat4& a, const raster::ImageFloat4& b) {
+  const std::vector<raster::Float4> pa = a.packed(), pb = b.packed();
+  return pa.size() == pb.size() && std::memcmp(pa.data(), pb.data(), pa.size() * sizeof(raster::Float4)) == 0;
+}
+
+Scene builtin(const std::string& name) {
+  Result<Scene> s = makeBuiltinScene(name);
+  EXPECT_TRUE(s.ok());
+  return std::move(*s);
+}
+
+RenderOptions small(int w = 128, int h = 72) {
+  RenderOptions o;
+  o.width = w;
+  o.height = h;
+  return o;
+}
+
+// With no motion and a pinhole, every triangle sent through the per-sample tester gives the
+// ordinary frame bit for bit: coverage, depth, varyings, layers, shadows and the blend.
+TEST(StochasticRender, StaticPinholeFrameEqualsTheOrdinaryFrame) {
+  const Scene scene = builtin(kDefaultScene);
+  Renderer r(2);
+  RenderOptions o = small(160, 90);
+  const Frame ordinary = r.render(scene, o);
+  EXPECT_FALSE(ordinary.stats.stochastic);
+  EXPECT_NE(ordinary.stats.report().find("skipped passes: stochastic pass (skipped: no visible instance moves"),
+            std::string::npos);
+  o.forceStochastic = true;
+  o.spp = 4;
+  for (bool staticPath : {true, false}) {
+    o.staticPath = staticPath;
+    const Frame forced = r.render(scene, o);
+    ASSERT_TRUE(forced.stats.stochastic);
+    EXPECT_EQ(forced.stats.trianglesStochastic, staticPath ? 0u : scene.triangleCount());
+    EXPECT_EQ(bytes(forced.color), bytes(ordinary.color)) << "static path " << staticPath;
+    EXPECT_TRUE(sameLinear(forced.linear, ordinary.linear)) << "static path " << staticPath;
+  }
+}
+
+TEST(StochasticRender, BoundingMethodsGiveTheSameFrameWithFewerTests) {
+  Renderer r(2);
+  for (const char* name : {"motion", "defocus", "motion-defocus"}) {
+    const Scene scene = builtin(name);
+    RenderOptions o = small();
+    o.spp = 4;
+    o.shadow = "none";
+    std::vector<uint8_t> first;
+    uint64_t boxTests = 0;
+    for (stochastic::BoundMethod m :
+         {stochastic::BoundMethod::Box, stochastic::BoundMethod::Interval, stochastic::BoundMethod::DualSpace}) {
+      o.bounds = m;
+      const Frame f = r.render(scene, o);
+      ASSERT_TRUE(f.stats.stochastic) << name;
+      if (first.empty()) {
+        first = bytes(f.color);
+        boxTests = f.stats.stoch.tests;
+      } else {
+        EXPECT_EQ(bytes(f.color), first) << name << " " << stochastic::boundMethodName(m);
+        EXPECT_LT(f.stats.stoch.tests, boxTests) << name << " " << stochastic::boundMethodName(m);
+      }
+    }
+  }
+}
+
+TEST(StochasticRender, ByteIdenticalAcrossThreadCounts) {
+  tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 8);
+  const Scene scene = builtin("motion-defocus");
+  RenderOptions o = small(120, 68);
+  o.spp = 8;
+  std::vector<uint8_t> first;
+  for (int threads : {1, 2, 5}) {
+    Renderer r(threads);
+    const Frame f = r.render(scene, o);
+    if (first.empty()) first = bytes(f.color);
+    else EXPECT_EQ(bytes(f.color), first) << threads << " threads";
+  }
+}
+
+// The static instances of a scene with few moving objects stay on the ordinary path (or, inside
+// the stochastic pass, share one test per pixel): the same frame, far fewer sample tests.
+TEST(StochasticRender, StaticInstancesKeepTheOrdinaryPath) {
+  const Scene scene = builtin("motion");
+  Renderer r(2);
+  RenderOptions o = small();
+  o.spp = 8;
+  o.shadow = "none";
+  const Frame fast = r.render(scene, o);
+  o.staticPath = false;
+  const Frame shared = r.render(scene, o);
+  o.staticShortcut = false;
+  const Frame slow = r.render(scene, o);
+  EXPECT_EQ(bytes(fast.color), bytes(shared.color));
+  EXPECT_EQ(bytes(fast.color), bytes(slow.color));
+  EXPECT_GT(fast.stats.instancesOrdinary, 0u);
+  EXPECT_EQ(shared.stats.instancesOrdinary, 0u);
+  EXPECT_GT(shared.stats.stoch.trianglesStatic, 0u);
+  EXPECT_EQ(slow.stats.stoch.trianglesStatic, 0u);
+  // The static triangles' tests: one per pixel with the shortcut, one per sample without.
+  const uint64_t moving = fast.stats.stoch.tests;
+  EXPECT_GT(shared.stats.stoch.tests, moving);
+  EXPECT_GT(slow.stats.stoch.tests - moving, 4 * (shared.stats.stoch.tests - moving));
+  EXPECT_EQ(shared.stats.stoch.hits - fast.stats.stoch.hits, (slow.stats.stoch.hits - fast.stats.stoch.hits) / 8);
+}
+
+// Error against the accumulation-buffer reference falls as the samples per pixel grow.
+TEST(StochasticRender, ConvergesToTheAccumulationReference) {
+  for (const char* name : {"motion", "defocus"}) {
+    const Scene scene = builtin(name);
+    Renderer r(2);
+    RenderOptions o = small(96, 54);
+    o.shadow = "none";
+    const raster::ImageFloat4 ref = accumulationReference(r, scene, o, 256);
+    double last = 1.0;
+    for (int spp : {1, 4, 16}) {
+      o.spp = spp;
+      const double e = imageRmse(r.render(scene, o).linear, ref);
+      EXPECT_LT(e, last * 0.8) << name << " at " << spp << " spp";
+      last = e;
+    }
+    // Beyond that the error reaches the floor of shading each surface once per pixel and of the
+    // reference's own 256 frames (docs/stochastic.md).
+    o.spp = 64;
+    EXPECT_LT(imageRmse(r.render(scene, o).linear, ref), last * 1.05) << name;
+    EXPECT_LT(last, 0.03) << name;
+  }
+}
+
+TEST(StochasticRender, FixedSampleFramesMoveTheInstancesAndTheLens) {
+  const Scene scene = builtin("motion-defocus");
+  Renderer r(2);
+  RenderOptions o = small();
+  o.shadow = "none";
+  o.at = stochastic::Sample{0.0f, 0.0f, 0.0f};
+  const Frame open = r.render(scene, o);
+  EXPECT_FALSE(open.stats.stochastic);
+  o.at = stochastic::Sample{1.0f, 0.0f, 0.0f};
+  const Frame close = r.render(scene, o);
+  o.at = stochastic::Sample{0.0f, 0.9f, 0.0f};
+  const Frame lens = r.render(scene, o);
+  EXPECT_NE(bytes(open.color), bytes(close.color));
+  EXPECT_NE(bytes(open.color), bytes(lens.color));
+}
+
+TEST(StochasticRender, RejectsSamplesPerPixelOutOfRange) {
+  const Scene scene = builtin("motion");
+  Renderer r(1);
+  RenderOptions o = small(16, 16);
+  for (int spp : {0, 65}) {
+    o.spp = spp;
+    EXPECT_THROW(r.render(scene, o), std::invalid_argument);
+  }
+}
+
+}  // namespace
+}  // namespace penumbra::engine
