@@ -63,6 +63,17 @@ struct BenchShadowsArgs {
 };
 int runBenchShadows(const BenchShadowsArgs& args);
 
+struct BenchStochasticArgs {
+  std::vector<std::string> scenes;   // built-in names or scene files; default motion, defocus, motion-defocus
+  std::vector<std::string> methods;  // box, interval, dual (default all three)
+  std::vector<int> spp;              // default 4, 16, 64
+  int width = 480, height = 270, runs = 3, refFrames = 512, threads = 0;
+  std::string shadow = "none";       // shadow technique of the frames (default none: the error is the blur's)
+  std::string out = "out/bench-stochastic";
+  bool json = false;
+};
+int runBenchStochastic(const BenchStochasticArgs& args);
+
 struct BenchPointsArgs {
   int64_t points = 4000000;  // sampled from the built-in scene 'complex', [1, 2^26]
   std::vector<int> views;    // M per run, each in [1, 1024]; default 1, 8, 32, 128
@@ -72,6 +83,13 @@ struct BenchPointsArgs {
   bool json = false;
 };
 int runBenchPoints(const BenchPointsArgs& args);
+
+struct ExplainArgs {
+  std::string topic;                        // "stochastic"
+  std::string out = "out/explain-stochastic";
+  int spp = 16;
+};
+int runExplain(const ExplainArgs& args);
 
 struct StressArgs {
   std::string suite = "raster";

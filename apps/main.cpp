@@ -90,6 +90,21 @@ int main(int argc, char** argv) {
   bs->add_option("--cache", benchShadows.cache, "Ground-truth cache folder (default <out>/gt-cache)");
   bs->add_flag("--json", benchShadows.json, "One JSON object per (scene, technique, setting) on stdout");
 
+  BenchStochasticArgs benchStoch;
+  CLI::App* bst = b->add_subcommand(
+      "stochastic", "Motion blur and depth of field: bounding methods' tests, STE and time against error vs accumulation");
+  bst->add_option("--scene", benchStoch.scenes, "Built-in scene or scene file (repeatable; default motion, defocus, motion-defocus)");
+  bst->add_option("--method", benchStoch.methods, "Bounding method box, interval or dual (repeatable; default all)");
+  bst->add_option("--spp", benchStoch.spp, "Samples per pixel to run (default 4,16,64)")->delimiter(',');
+  bst->add_option("--width", benchStoch.width, "Image width [16, 4096] (default 480)");
+  bst->add_option("--height", benchStoch.height, "Image height [16, 4096] (default 270)");
+  bst->add_option("--runs", benchStoch.runs, "Timed runs per setting; medians are reported (default 3)");
+  bst->add_option("--ref-frames", benchStoch.refFrames, "Pinhole frames in the accumulation reference (default 512)");
+  bst->add_option("--shadow", benchStoch.shadow, "Shadow technique of every frame (default none)");
+  bst->add_option("--threads", benchStoch.threads, "Worker threads (0 = all cores)");
+  bst->add_option("--out", benchStoch.out, "Report folder (default out/bench-stochastic)");
+  bst->add_flag("--json", benchStoch.json, "One JSON object per run on stdout");
+
   BenchPointsArgs benchPoints;
   CLI::App* bp =
       b->add_subcommand("points", "Point splatting: points and point-views per second against a bandwidth bound");
@@ -102,6 +117,12 @@ int main(int argc, char** argv) {
   bp->add_option("--runs", benchPoints.runs, "Timed runs per (views, threads); medians are reported (default 5)");
   bp->add_flag("--json", benchPoints.json, "One JSON object per (views, threads) on stdout");
 
+  ExplainArgs explain;
+  CLI::App* ex = app.add_subcommand("explain", "Pictures that explain a method (topic: stochastic)");
+  ex->add_option("topic", explain.topic, "What to explain: stochastic")->required();
+  ex->add_option("--out", explain.out, "Folder for the pictures (default out/explain-stochastic)");
+  ex->add_option("--spp", explain.spp, "Samples per pixel shown [1, 64] (default 16)");
+
   StressArgs stress;
   CLI::App* s = app.add_subcommand("stress", "Sweep numerically hard cases; exit 1 if anything broke");
   s->add_option("--suite", stress.suite, "Suite to run: raster (default) or shadows")
@@ -111,8 +132,8 @@ int main(int argc, char** argv) {
 
   if (argc > 1 && argv[1][0] != '-') {
     const std::string sub = argv[1];
-    if (sub != "render" && sub != "bench" && sub != "stress") {
-      const engine::Error e{"", "unknown subcommand '" + sub + "' (valid: render, bench, stress)"};
+    if (sub != "render" && sub != "bench" && sub != "stress" && sub != "explain") {
+      const engine::Error e{"", "unknown subcommand '" + sub + "' (valid: render, bench, stress, explain)"};
       std::fprintf(stderr, "penumbra: error: %s\n", e.line().c_str());
       return kExitBadInput;
     }
@@ -133,7 +154,9 @@ int main(int argc, char** argv) {
     if (br->parsed()) return runBenchRaster(bench);
     if (bs->parsed()) return runBenchShadows(benchShadows);
     if (bp->parsed()) return runBenchPoints(benchPoints);
+    if (bst->parsed()) return runBenchStochastic(benchStoch);
     if (s->parsed()) return runStress(stress);
+    if (ex->parsed()) return runExplain(explain);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "penumbra: error: %s\n", e.error.line().c_str());
     return kExitBadInput;

@@ -1,0 +1,313 @@
+// `penumbra bench stochastic`: per scene (motion, defocus, both) every bounding method at several
+// sample counts: time of the stochastic pass (median of runs), exact tests, hits, sample test
+// efficiency, and the error against the accumulation-buffer reference; plus, where the scene has
+// static instances, the frame without the ordinary path to show what it saves. Writes JSON, CSV,
+// an HTML page with the images, test heat maps and one run-time-against-error Pareto plot (SVG)
+// per scene.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "apps/cli.h"
+#include "apps/commands.h"
+#include "engine/builtin_scenes.h"
+#include "engine/image_io.h"
+#include "engine/metrics.h"
+#include "engine/renderer.h"
+#include "engine/scene_file.h"
+#include "engine/texture.h"
+
+namespace penumbra::apps {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+struct Row {
+  std::string scene, method;
+  int spp = 0;
+  bool staticPath = true;
+  double ms = 0, msFrame = 0;
+  uint64_t tests = 0, hits = 0, scanned = 0;
+  double ste = 0, steP10 = 0, steMedian = 0, steP90 = 0, rmse = 0;
+  std::string image, heat;
+};
+
+Json rowJson(const Row& r) {
+  Json j;
+  j["scene"] = r.scene;
+  j["method"] = r.method;
+  j["spp"] = r.spp;
+  j["ms"] = r.ms;
+  j["tests"] = r.tests;
+  j["hits"] = r.hits;
+  j["ste"] = r.ste;
+  j["rmse"] = r.rmse;
+  j["ms_frame"] = r.msFrame;
+  j["scanned"] = r.scanned;
+  j["ste_triangle_p10"] = r.steP10;
+  j["ste_triangle_median"] = r.steMedian;
+  j["ste_triangle_p90"] = r.steP90;
+  j["static_path"] = r.staticPath;
+  return j;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
+}
+
+raster::ImageRgba8 srgb(const raster::ImageFloat4& linear) {
+  raster::ImageRgba8 out(linear.width(), linear.height());
+  for (int y = 0; y < linear.height(); ++y)
+    for (int x = 0; x < linear.width(); ++x) {
+      const raster::Float4& c = linear.at(x, y);
+      out.at(x, y) = {engine::linearToSrgb(c.r), engine::linearToSrgb(c.g), engine::linearToSrgb(c.b), 255};
+    }
+  return out;
+}
+
+// Tests per pixel on a log scale, black (none) through blue and yellow to white (>= 4096).
+raster::ImageRgba8 testsHeatMap(const std::vector<uint32_t>& tests, int w, int h) {
+  raster::ImageRgba8 out(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const uint32_t n = tests[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)];
+      const float t = n == 0 ? 0.0f : std::min(1.0f, std::log2(static_cast<float>(n) + 1.0f) / 12.0f);
+      const float r = std::clamp(3.0f * t - 1.0f, 0.0f, 1.0f), g = std::clamp(3.0f * t - 1.5f, 0.0f, 1.0f) * 0.9f + std::clamp(2.0f * t - 1.0f, 0.0f, 0.1f),
+                  b = t < 0.5f ? 2.0f * t : std::clamp(3.0f * t - 2.0f, 0.0f, 1.0f) + (1.0f - t) * 0.6f;
+      out.at(x, y) = {static_cast<uint8_t>(255.0f * r), static_cast<uint8_t>(255.0f * std::min(g, 1.0f)),
+                      static_cast<uint8_t>(255.0f * std::min(b, 1.0f)), 255};
+    }
+  return out;
+}
+
+const char* methodColor(const std::string& m) {
+  if (m == "box") return "#c0392b";
+  if (m == "interval") return "#e67e22";
+  if (m == "dual") return "#2471a3";
+  return "#7f8c8d";
+}
+
+// Run time (log x) against RMSE (linear y) for one scene's rows, the Pareto front joined.
+std::string paretoSvg(const std::string& scene, const std::vector<Row>& rows) {
+  constexpr double kW = 640, kH = 400, kL = 70, kR = 20, kT = 30, kB = 50;
+  double xmin = 1e300, xmax = 0, ymax = 0;
+  for (const Row& r : rows) xmin = std::min(xmin, r.ms), xmax = std::max(xmax, r.ms), ymax = std::max(ymax, r.rmse);
+  const double lx0 = std::floor(std::log10(std::max(xmin, 1e-3))), lx1 = std::ceil(std::log10(std::max(xmax, 1e-3)) + 1e-9);
+  ymax = ymax > 0 ? ymax * 1.1 : 1.0;
+  auto px = [&](double ms) { return kL + (std::log10(std::max(ms, 1e-3)) - lx0) / std::max(lx1 - lx0, 1.0) * (kW - kL - kR); };
+  auto py = [&](double e) { return kH - kB - e / ymax * (kH - kT - kB); };
+  char buf[512];
+  std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"400\" font-family=\"sans-serif\" font-size=\"12\">\n";
+  s += "<rect width=\"640\" height=\"400\" fill=\"white\"/>\n";
+  std::snprintf(buf, sizeof buf, "<text x=\"%g\" y=\"18\" font-size=\"14\">%s: stochastic pass time against RMSE vs the accumulation reference</text>\n", kL, scene.c_str());
+  s += buf;
+  for (double d = lx0; d <= lx1 + 1e-9; d += 1.0) {
+    const double x = px(std::pow(10.0, d));
+    std::snprintf(buf, sizeof buf, "<line x1=\"%.1f\" y1=\"%g\" x2=\"%.1f\" y2=\"%g\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%g\" text-anchor=\"middle\">%g ms</text>\n",
+                  x, kT, x, kH - kB, x, kH - kB + 16, std::pow(10.0, d));
+    s += buf;
+  }
+  for (int i = 0; i <= 4; ++i) {
+    const double e = ymax * i / 4.0, y = py(e);
+    std::snprintf(buf, sizeof buf, "<line x1=\"%g\" y1=\"%.1f\" x2=\"%g\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%g\" y=\"%.1f\" text-anchor=\"end\">%.4f</text>\n",
+                  kL, y, kW - kR, y, kL - 6, y + 4, e);
+    s += buf;
+  }
+  std::snprintf(buf, sizeof buf, "<text x=\"%g\" y=\"%g\" text-anchor=\"middle\">stochastic pass, ms (log)</text><text x=\"14\" y=\"%g\" transform=\"rotate(-90 14 %g)\" text-anchor=\"middle\">RMSE (linear radiance)</text>\n",
+                (kL + kW - kR) / 2, kH - 12, kH / 2, kH / 2);
+  s += buf;
+  // Pareto front: no other row at least as fast and as accurate, and better in one.
+  std::vector<const Row*> front;
+  for (const Row& r : rows) {
+    bool dominated = false;
+    for (const Row& o : rows)
+      dominated |= (o.ms <= r.ms && o.rmse <= r.rmse && (o.ms < r.ms || o.rmse < r.rmse));
+    if (!dominated) front.push_back(&r);
+  }
+  std::sort(front.begin(), front.end(), [](const Row* a, const Row* b) { return a->ms < b->ms; });
+  if (front.size() > 1) {
+    s += "<polyline fill=\"none\" stroke=\"#555\" stroke-dasharray=\"4 3\" points=\"";
+    for (const Row* r : front) {
+      std::snprintf(buf, sizeof buf, "%.1f,%.1f ", px(r->ms), py(r->rmse));
+      s += buf;
+    }
+    s += "\"/>\n";
+  }
+  for (const Row& r : rows) {
+    std::snprintf(buf, sizeof buf, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"%s\"/><text x=\"%.1f\" y=\"%.1f\" font-size=\"10\">%d%s</text>\n",
+                  px(r.ms), py(r.rmse), methodColor(r.method), r.staticPath ? "0.85" : "0.3", px(r.ms) + 7, py(r.rmse) - 5, r.spp,
+                  r.staticPath ? "" : " (no static path)");
+    s += buf;
+  }
+  int ly = 40;
+  for (const char* m : {"box", "interval", "dual"}) {
+    std::snprintf(buf, sizeof buf, "<circle cx=\"%g\" cy=\"%d\" r=\"5\" fill=\"%s\"/><text x=\"%g\" y=\"%d\">%s</text>\n", kW - 110, ly,
+                  methodColor(m), kW - 100, ly + 4, m);
+    s += buf;
+    ly += 16;
+  }
+  s += "<text x=\"530\" y=\"94\" font-size=\"10\">labels: samples per pixel</text>\n</svg>\n";
+  return s;
+}
+
+void writeText(const std::filesystem::path& path, const std::string& text) {
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << text;
+    if (!f) fail(path.string(), "cannot write");
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+}  // namespace
+
+int runBenchStochastic(const BenchStochasticArgs& a) {
+  if (a.width < 16 || a.width > 4096 || a.height < 16 || a.height > 4096)
+    fail("option --width/--height", "must be in [16, 4096]");
+  if (a.runs < 1 || a.runs > 100) fail("option --runs", "must be in [1, 100]");
+  if (a.refFrames < 1 || a.refFrames > 65536) fail("option --ref-frames", "must be in [1, 65536]");
+  if (a.threads < 0 || a.threads > 1024) fail("option --threads", "must be in [0, 1024]");
+  std::vector<int> spps = a.spp.empty() ? std::vector<int>{4, 16, 64} : a.spp;
+  for (int s : spps)
+    if (s < 1 || s > stochastic::kMaxSpp) fail("option --spp", "each must be in [1, 64]");
+  std::vector<stochastic::BoundMethod> methods;
+  for (const std::string& m : a.methods.empty() ? std::vector<std::string>{"box", "interval", "dual"} : a.methods) {
+    stochastic::BoundMethod b;
+    if (!stochastic::parseBoundMethod(m, b)) fail("option --method", "'" + m + "' is not box, interval or dual");
+    methods.push_back(b);
+  }
+  const std::string shadowParams = checkShadowOptions(a.shadow, {});
+  std::vector<std::pair<std::string, engine::Scene>> scenes;
+  for (const std::string& name : a.scenes.empty() ? std::vector<std::string>{"motion", "defocus", "motion-defocus"} : a.scenes) {
+    const bool isFile = name.find('.') != std::string::npos || name.find('/') != std::string::npos;
+    engine::Result<engine::Scene> s = isFile ? engine::loadScene(name) : engine::makeBuiltinScene(name);
+    if (!s) fail(s.error());
+    scenes.emplace_back(isFile ? std::filesystem::path(name).stem().string() : name, std::move(*s));
+  }
+  const std::filesystem::path out(a.out);
+  std::error_code ec;
+  std::filesystem::create_directories(out, ec);
+  if (ec) fail(a.out, "cannot create the report folder: " + ec.message());
+
+  allowThreads(a.threads);
+  engine::Renderer renderer(a.threads);
+  std::vector<Row> rows;
+  Json scenesJson = Json::array();
+  std::string html = "<!doctype html><meta charset=\"utf-8\"><title>penumbra bench stochastic</title>\n"
+                     "<style>body{font-family:sans-serif;margin:2em}td,th{padding:2px 8px;text-align:right}"
+                     "img{margin:2px}</style>\n<h1>Stochastic rasterization: run time against error</h1>\n";
+  char buf[512];
+  for (auto& [name, scene] : scenes) {
+    engine::RenderOptions base;
+    base.width = a.width;
+    base.height = a.height;
+    base.shadow = a.shadow;
+    base.shadowParams = shadowParams;
+    std::fprintf(stderr, "bench stochastic: %s: accumulation reference (%d frames)\n", name.c_str(), a.refFrames);
+    const auto t0 = std::chrono::steady_clock::now();
+    const raster::ImageFloat4 ref = engine::accumulationReference(renderer, scene, base, a.refFrames);
+    const double refMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const std::string refName = name + "-reference.png";
+    if (engine::Status st = engine::writeImage((out / refName).string(), srgb(ref)); !st) fail(st.error());
+    Json sj;
+    sj["name"] = name;
+    sj["reference_frames"] = a.refFrames;
+    sj["reference_ms"] = refMs;
+    scenesJson.push_back(sj);
+    std::vector<Row> sceneRows;
+    auto run = [&](stochastic::BoundMethod m, int spp, bool staticPath) {
+      engine::RenderOptions o = base;
+      o.spp = spp;
+      o.bounds = m;
+      o.staticPath = staticPath;
+      o.staticShortcut = staticPath;
+      std::vector<uint32_t> testsPerPixel;
+      o.debug.testsPerPixel = &testsPerPixel;
+      std::vector<double> ms, msFrame;
+      engine::Frame f;
+      for (int r = 0; r < a.runs; ++r) {
+        f = renderer.render(scene, o);
+        ms.push_back(f.stats.msStochastic);
+        msFrame.push_back(f.stats.msTotal);
+      }
+      if (!f.stats.stochastic) fail(name, "the scene has no motion and no lens: nothing for the stochastic pass");
+      Row row;
+      row.scene = name;
+      row.method = stochastic::boundMethodName(m);
+      row.spp = spp;
+      row.staticPath = staticPath;
+      row.ms = median(ms);
+      row.msFrame = median(msFrame);
+      const stochastic::StochasticStats& s = f.stats.stoch;
+      row.tests = s.tests, row.hits = s.hits, row.scanned = s.samplesScanned, row.ste = s.ste();
+      row.steP10 = s.steTriangleP10, row.steMedian = s.steTriangleMedian, row.steP90 = s.steTriangleP90;
+      row.rmse = engine::imageRmse(f.linear, ref);
+      const std::string tag = name + "-" + row.method + "-" + std::to_string(spp) + (staticPath ? "" : "-nostatic");
+      row.image = tag + ".png";
+      row.heat = tag + "-tests.png";
+      if (engine::Status st = engine::writeImage((out / row.image).string(), f.color); !st) fail(st.error());
+      if (engine::Status st = engine::writeImage((out / row.heat).string(), testsHeatMap(testsPerPixel, a.width, a.height)); !st)
+        fail(st.error());
+      if (a.json) std::printf("%s\n", rowJson(row).dump().c_str());
+      else
+        std::printf("%-15s %-9s %2d spp%s: %9.2f ms  tests %11llu  hits %10llu  STE %.3f  RMSE %.5f\n", name.c_str(),
+                    row.method.c_str(), spp, staticPath ? "" : " (no static path)", row.ms,
+                    static_cast<unsigned long long>(row.tests), static_cast<unsigned long long>(row.hits), row.ste, row.rmse);
+      std::fflush(stdout);
+      sceneRows.push_back(row);
+      return f.stats.instancesOrdinary;
+    };
+    size_t ordinary = 0;
+    for (int spp : spps)
+      for (stochastic::BoundMethod m : methods) ordinary = std::max(ordinary, run(m, spp, true));
+    // What the ordinary path saves: the same frame with every static triangle tested per sample.
+    if (ordinary > 0) run(methods.back(), 16, false);
+    writeText(out / ("pareto-" + name + ".svg"), paretoSvg(name, sceneRows));
+    std::snprintf(buf, sizeof buf, "<h2>%s</h2>\n<p>Reference: %d pinhole frames accumulated (%.0f ms).</p>\n"
+                  "<img src=\"%s\" width=\"%d\"> <img src=\"pareto-%s.svg\">\n<table><tr><th>method</th><th>spp</th>"
+                  "<th>ms</th><th>frame ms</th><th>tests</th><th>hits</th><th>STE</th><th>RMSE</th><th>image</th><th>tests per pixel</th></tr>\n",
+                  name.c_str(), a.refFrames, refMs, refName.c_str(), a.width, name.c_str());
+    html += buf;
+    for (const Row& r : sceneRows) {
+      std::snprintf(buf, sizeof buf, "<tr><td>%s%s</td><td>%d</td><td>%.1f</td><td>%.1f</td><td>%llu</td><td>%llu</td><td>%.3f</td><td>%.5f</td>"
+                    "<td><img src=\"%s\" width=\"160\"></td><td><img src=\"%s\" width=\"160\"></td></tr>\n",
+                    r.method.c_str(), r.staticPath ? "" : " (no static path)", r.spp, r.ms, r.msFrame,
+                    static_cast<unsigned long long>(r.tests), static_cast<unsigned long long>(r.hits), r.ste, r.rmse,
+                    r.image.c_str(), r.heat.c_str());
+      html += buf;
+    }
+    html += "</table>\n";
+    rows.insert(rows.end(), sceneRows.begin(), sceneRows.end());
+  }
+  Json all;
+  all["title"] = "penumbra bench stochastic";
+  all["width"] = a.width;
+  all["height"] = a.height;
+  all["runs"] = a.runs;
+  all["threads"] = renderer.rasterizer().threads();
+  all["scenes"] = scenesJson;
+  Json rj = Json::array();
+  std::string csv = "scene,method,spp,ms,tests,hits,ste,rmse,ms_frame,scanned,ste_triangle_p10,ste_triangle_median,ste_triangle_p90,static_path\n";
+  for (const Row& r : rows) {
+    rj.push_back(rowJson(r));
+    std::snprintf(buf, sizeof buf, "%s,%s,%d,%.17g,%llu,%llu,%.17g,%.17g,%.17g,%llu,%.17g,%.17g,%.17g,%d\n", r.scene.c_str(),
+                  r.method.c_str(), r.spp, r.ms, static_cast<unsigned long long>(r.tests), static_cast<unsigned long long>(r.hits),
+                  r.ste, r.rmse, r.msFrame, static_cast<unsigned long long>(r.scanned), r.steP10, r.steMedian, r.steP90,
+                  r.staticPath ? 1 : 0);
+    csv += buf;
+  }
+  all["rows"] = rj;
+  writeText(out / "results.json", all.dump(1) + "\n");
+  writeText(out / "results.csv", csv);
+  writeText(out / "index.html", html);
+  std::fprintf(stderr, "bench stochastic: report in %s/index.html\n", a.out.c_str());
+  return 0;
+}
+
+}  // namespace penumbra::apps
