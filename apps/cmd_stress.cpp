@@ -4,6 +4,7 @@
 #include "apps/commands.h"
 #include "apps/stress_raster.h"
 #include "apps/stress_shadows.h"
+#include "apps/stress_stochastic.h"
 
 namespace penumbra::apps {
 
@@ -12,6 +13,31 @@ int runStress(const StressArgs& a) {
   allowThreads(a.threads);
   raster::Rasterizer rast({.threads = a.threads});
   Progress progress("stress " + a.suite);
+  if (a.suite == "stochastic") {
+    progress.step(1, 1, "stochastic cases");
+    const std::vector<StochasticStressRow> rows = runStochasticStress(rast);
+    progress.done();
+    int broken = 0;
+    if (!a.json)
+      std::printf("%-26s %-24s %-9s %9s %11s %9s %7s %8s %8s  %s\n", "case", "parameter", "method", "ms", "tests", "hits",
+                  "STE", "mismatch", "badz", "verdict");
+    for (const StochasticStressRow& r : rows) {
+      if (!r.ok()) ++broken;
+      if (a.json)
+        std::printf("%s\n", r.json().c_str());
+      else
+        std::printf("%-26s %-24s %-9s %9.2f %11llu %9llu %7.3f %8zu %8zu  %s\n", r.name.c_str(), r.param.c_str(),
+                    r.method.c_str(), r.ms, static_cast<unsigned long long>(r.tests),
+                    static_cast<unsigned long long>(r.hits),
+                    r.tests ? static_cast<double>(r.hits) / static_cast<double>(r.tests) : 0.0, r.mismatches, r.badDepth,
+                    r.ok() ? "ok" : "BROKEN");
+    }
+    if (!a.json)
+      std::printf("%zu cases, %d broken (mismatch: samples differing from testing every sample; badz: depth NaN or "
+                  "outside [0, 1])\n",
+                  rows.size(), broken);
+    return broken == 0 ? 0 : 1;
+  }
   if (a.suite == "shadows") {
     progress.step(1, 1, "shadow cases");
     const std::vector<ShadowStressRow> rows = runShadowStress(rast);

@@ -125,8 +125,8 @@ int main(int argc, char** argv) {
 
   StressArgs stress;
   CLI::App* s = app.add_subcommand("stress", "Sweep numerically hard cases; exit 1 if anything broke");
-  s->add_option("--suite", stress.suite, "Suite to run: raster (default) or shadows")
-      ->check(CLI::IsMember({"raster", "shadows"}));
+  s->add_option("--suite", stress.suite, "Suite to run: raster (default), shadows or stochastic")
+      ->check(CLI::IsMember({"raster", "shadows", "stochastic"}));
   s->add_option("--threads", stress.threads, "Worker threads (0 = all cores)");
   s->add_flag("--json", stress.json, "One JSON object per case on stdout");
 

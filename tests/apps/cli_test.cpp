@@ -336,6 +336,70 @@ TEST_F(Cli, BenchPointsPrintsOneJsonObjectPerRun) {
   EXPECT_EQ(seen, (std::set<std::pair<int, int>>{{1, 1}, {1, 2}, {4, 1}, {4, 2}})) << r.out;
 }
 
+TEST_F(Cli, RendersTheStochasticScenesAndShowsThePlan) {
+  for (const char* scene : {"motion", "defocus", "motion-defocus"}) {
+    const std::string out = path(std::string(scene) + ".png");
+    const CliResult r = run(std::string("render --builtin ") + scene + " --width 64 --height 36 --spp 4 --stats -o " + out);
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_TRUE(fs::exists(out));
+    EXPECT_NE(r.out.find("stochastic pass (dual bounds, 4 spp)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("STE"), std::string::npos) << r.out;
+  }
+  const CliResult r = run("render --width 64 --height 36 --stats -o " + path("d.png"));
+  EXPECT_NE(r.out.find("skipped passes: stochastic pass (skipped: no visible instance moves and the camera is a pinhole)"),
+            std::string::npos)
+      << r.out;
+}
+
+TEST_F(Cli, StochasticBadOptions) {
+  const std::string o = path("o.png");
+  expectBadInput("render --builtin motion --spp 0 -o " + o, "--spp", o);
+  expectBadInput("render --builtin motion --spp 65 -o " + o, "--spp", o);
+  expectBadInput("render --builtin motion --bounds sphere -o " + o, "--bounds", o);
+  expectBadInput("render --builtin motion --strata 0 -o " + o, "--strata", o);
+  expectBadInput("render --builtin motion --strata 4,9 -o " + o, "--strata", o);
+  expectBadInput("render --builtin motion --dual-block 3 -o " + o, "--dual-block", o);
+  expectBadInput("render --builtin motion --aperture -2 -o " + o, "--aperture", o);
+  expectBadInput("explain shadows", "shadows", o);
+  expectBadInput("bench stochastic --spp 0 --out " + path("b"), "--spp", o);
+  expectBadInput("bench stochastic --method sphere --out " + path("b"), "sphere", o);
+}
+
+TEST_F(Cli, BenchStochasticPrintsOneJsonObjectPerRun) {
+  const std::string out = path("bench");
+  const CliResult r = run("bench stochastic --scene motion --spp 1,2 --runs 1 --ref-frames 4 --width 48 --height 27 --out " +
+                          out + " --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::set<std::pair<std::string, int>> seen;
+  std::stringstream lines(r.out);
+  std::string line;
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    if (line.empty() || line[0] != '{') continue;
+    const nlohmann::json j = nlohmann::json::parse(line);
+    for (const char* key : {"scene", "method", "spp", "ms", "tests", "hits", "ste", "rmse"})
+      EXPECT_TRUE(j.contains(key)) << key << " in " << line;
+    EXPECT_EQ(j["scene"].get<std::string>(), "motion");
+    EXPECT_LE(j["hits"].get<uint64_t>(), j["tests"].get<uint64_t>());
+    if (j["static_path"].get<bool>()) seen.insert({j["method"].get<std::string>(), j["spp"].get<int>()});
+    ++rows;
+  }
+  EXPECT_EQ(rows, 7) << r.out;  // 3 methods x 2 sample counts, and the frame without the ordinary path
+  EXPECT_EQ(seen.size(), 6u);
+  for (const char* f : {"results.json", "results.csv", "index.html", "pareto-motion.svg", "motion-reference.png",
+                        "motion-dual-2.png", "motion-box-1-tests.png"})
+    EXPECT_TRUE(fs::exists(fs::path(out) / f)) << f;
+}
+
+TEST_F(Cli, ExplainStochasticWritesItsPictures) {
+  const std::string out = path("explain");
+  const CliResult r = run("explain stochastic --spp 2 --out " + out);
+  ASSERT_EQ(r.status, 0) << r.out;
+  for (const char* f : {"samples-xt.png", "samples-uv.png", "footprint-bounds.png", "tests-box.png", "tests-interval.png",
+                        "tests-dual.png"})
+    EXPECT_TRUE(fs::exists(fs::path(out) / f)) << f;
+}
+
 TEST_F(Cli, BenchPointsBadOptions) {
   const std::string o = path("o.png");
   expectBadInput("bench points --views 1,0", "--views", o);

@@ -4,6 +4,7 @@
 
 #include "apps/stress_raster.h"
 #include "apps/stress_shadows.h"
+#include "apps/stress_stochastic.h"
 #include "shadows/technique.h"
 
 namespace penumbra::apps {
@@ -52,6 +53,23 @@ TEST(Stress, ShadowSuiteFiniteAndInRange) {
       EXPECT_GT(row.umbra, 10u) << row.json();
     }
   }
+}
+
+// Every bounding method on the hard cases samples exactly what testing every sample does; the
+// dual-space bound keeps its efficiency however fast the motion or wide the lens.
+TEST(Stress, StochasticSuiteAgreesWithTestingEverySample) {
+  raster::Rasterizer r({.threads = 2});
+  const std::vector<StochasticStressRow> rows = runStochasticStress(r);
+  ASSERT_EQ(rows.size(), 36u);
+  uint64_t hits = 0;
+  for (const StochasticStressRow& row : rows) {
+    EXPECT_TRUE(row.ok()) << row.json();
+    hits += row.hits;
+    if (row.method == "dual" && (row.name == "motion across" || row.name == "huge circle of confusion")) {
+      EXPECT_GT(static_cast<double>(row.hits), 0.15 * static_cast<double>(row.tests)) << row.json();
+    }
+  }
+  EXPECT_GT(hits, 100000u);
 }
 
 }  // namespace
