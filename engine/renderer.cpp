@@ -509,7 +509,9 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
                                              triStart.begin() - 1);
         const InstanceShading& sh = shading[k];
         const Mesh& mesh = scene.meshes[static_cast<size_t>(scene.instances[stochasticSet[k]].mesh)];
-        glm::vec3 sumP(0.0f), sumN(0.0f), sumA(0.0f), sumRp(0.0f), sumRn(0.0f);
+        // The shadow receiver is the layer's median-time sample itself (a point on the surface: an
+        // average of points on a curved surface lies inside it and would shadow itself).
+        glm::vec3 sumP(0.0f), sumN(0.0f), sumA(0.0f);
         GBufferTexel first;
         bool same = true;
         int n = 0;
@@ -549,7 +551,8 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
           }
           if (n == 0) first = t;
           same &= t.position == first.position && t.normal == first.normal && t.albedo == first.albedo;
-          sumP += t.position, sumN += t.normal, sumA += t.albedo, sumRp += rp3, sumRn += rn3;
+          sumP += t.position, sumN += t.normal, sumA += t.albedo;
+          if (s2 == L.sample) rcv = {rp3, rn3, 1u};
           ++n;
         }
         if (n == 0) continue;  // cannot happen: the resolve found these samples covered
@@ -564,8 +567,6 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
         g.normal = ln > 0.0f ? sumN / ln : first.normal;
         g.albedo = sumA * inv;
         g.material = first.material;
-        const float lr = glm::length(sumRn);
-        rcv = {sumRp * inv, lr > 0.0f ? sumRn / lr : g.normal, 1u};
       }
     };
     stochastic::StochasticRasterizer sr(raster_);
