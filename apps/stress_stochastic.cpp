@@ -57,13 +57,17 @@ void addFan(Case& c, const glm::mat4& proj, glm::vec3 at, float size, glm::vec3 
 std::vector<Case> cases() {
   const glm::mat4 proj = projection();
   std::vector<Case> out;
-  for (float screens : {0.5f, 5.0f, 50.0f, 500.0f}) {  // screen widths crossed in one shutter (at z = -5)
-    Case c{"motion across", std::to_string(static_cast<int>(screens * 10) / 10.0).substr(0, 5) + " screens", {}, {}, {}, {}, {}};
+  for (float screens : {0.5f, 5.0f, 50.0f, 500.0f, 5000.0f}) {  // screen widths crossed in one shutter (at z = -5)
+    char label[32];
+    std::snprintf(label, sizeof label, "%g screens", static_cast<double>(screens));
+    Case c{"motion across", label, {}, {}, {}, {}, {}};
     addFan(c, proj, {-3.0f, 0.0f, -5.0f}, 0.6f, {screens * 5.8f, 0.3f, 0.0f});
     out.push_back(std::move(c));
   }
   for (float aperture : {0.05f, 0.5f, 5.0f, 50.0f}) {  // circle of confusion up to hundreds of screens
-    Case c{"huge circle of confusion", "aperture " + std::to_string(aperture).substr(0, 5), {}, {}, {}, {}, {}};
+    char label[32];
+    std::snprintf(label, sizeof label, "aperture %g", static_cast<double>(aperture));
+    Case c{"huge circle of confusion", label, {}, {}, {}, {}, {}};
     c.lens = stochastic::makeThinLens(proj[0][0], proj[1][1], aperture, 40.0f);
     addFan(c, proj, {0.0f, 0.0f, -2.0f}, 0.5f, {0.0f, 0.0f, 0.0f});
     addFan(c, proj, {1.0f, 0.5f, -200.0f}, 20.0f, {0.0f, 0.0f, 0.0f});

@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 #include <numbers>
+#include <span>
 #include <stdexcept>
 
 #include "engine/texture.h"
@@ -36,11 +37,15 @@ void instanceBounds(const Scene& scene, const Instance& inst, glm::vec3& lo, glm
   }
 }
 
-// Is the box entirely outside one plane of the clip volume (-w<=x<=w, -w<=y<=w, 0<=z<=w)?
-bool outsideFrustum(const glm::mat4& viewProj, const glm::vec3& lo, const glm::vec3& hi) {
-  glm::vec4 c[8];
-  for (int i = 0; i < 8; ++i)
-    c[i] = viewProj * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0f);
+// Is the box entirely outside one plane of the clip volume (-w<=x<=w, -w<=y<=w, 0<=z<=w) in every
+// one of the views? (One plane for all views together: the views of a lens's corners move a point's
+// plane distances linearly, so a box outside one plane in all of them is outside it for every lens
+// point; outside different planes in different views proves nothing.)
+bool outsideFrustum(std::span<const glm::mat4> views, const glm::vec3& lo, const glm::vec3& hi) {
+  std::vector<glm::vec4> c;
+  for (const glm::mat4& viewProj : views)
+    for (int i = 0; i < 8; ++i)
+      c.push_back(viewProj * glm::vec4((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z, 1.0f));
   auto allOut = [&](auto dist) {
     for (const glm::vec4& p : c)
       if (dist(p) >= 0.0f) return false;
@@ -369,9 +374,7 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
     instanceBounds(scene, at0, lo, hi);
     instanceBounds(scene, at1, lo1, hi1);
     lo = glm::min(lo, lo1), hi = glm::max(hi, hi1);
-    bool outside = true;
-    for (const glm::mat4& m : cullViews) outside &= outsideFrustum(m, lo, hi);
-    if (outside) {
+    if (outsideFrustum(std::span<const glm::mat4>(cullViews, lensActive ? 4 : 1), lo, hi)) {
       ++st.instancesCulled;
       st.trianglesSkippedByCulling += tris;
       if (st.culledNames.size() < 8) {
@@ -419,7 +422,13 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
     const Mesh& mesh = scene.meshes[static_cast<size_t>(inst.mesh)];
     glm::mat4 ta, tb;
     transforms(inst, ta, tb);
-    const InstanceShading sh = prepareInstance(scene, inst, ta, ta, defaultMaterial);
+    // A fixed-sample frame interpolates positions and normals between the two transforms as the
+    // stochastic pass does (its reference must shade like it); otherwise the instance is static.
+    const float shadeTime = fixedSample ? options.at->t : 0.0f;
+    const InstanceShading sh = fixedSample ? prepareInstance(scene, inst, inst.transform,
+                                                             inst.moves() ? *inst.transformClose : inst.transform,
+                                                             defaultMaterial)
+                                           : prepareInstance(scene, inst, ta, ta, defaultMaterial);
     const glm::mat4 mvp = viewProj * ta;
     raster::DrawDesc desc;
     desc.vertexCount = static_cast<uint32_t>(mesh.positions.size());
@@ -429,7 +438,7 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
     st.gbuffer += raster_.draw(
         desc, frame.depth,
         [&](uint32_t i, float* v) {
-          vertexVaryings(mesh, sh, i, 0.0f, v);
+          vertexVaryings(mesh, sh, i, shadeTime, v);
           return mvp * glm::vec4(mesh.positions[i], 1.0f);
         },
         [&](const raster::Fragment& f) { frame.gbuffer.at(f.x, f.y) = gbufferTexel(sh, f, cam.eye, pixelAngle); });
@@ -555,7 +564,10 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
           if (s2 == L.sample) rcv = {rp3, rn3, 1u};
           ++n;
         }
-        if (n == 0) continue;  // cannot happen: the resolve found these samples covered
+        if (n == 0) {  // cannot happen (the resolve found these samples covered): blend as background
+          g.material = -1;
+          continue;
+        }
         if (same && !sh.moves) {
           g = first;
           rcv = {g.position, g.normal, 1u};
@@ -680,7 +692,7 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
           } else {
             // Box filter: each surface weighted by the share of the pixel's samples it holds.
             const stochastic::ResolvedPixel& rp = frame.resolved.at(x, y);
-            if (rp.layers == 1 && rp.layer[0].count == frame.spp) {
+            if (rp.layers == 1 && rp.layer[0].count == frame.spp && frame.gbuffer.at(x, y).material >= 0) {
               c = shadeTexel(frame.gbuffer.at(x, y), x, y);  // one surface: no blending, exact
               alpha = 1.0f;
             } else if (rp.layers > 0) {
@@ -688,7 +700,12 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
               c = scene.background * (static_cast<float>(rp.background) * inv);
               for (int l = 0; l < rp.layers; ++l) {
                 const float wgt = static_cast<float>(rp.layer[l].count) * inv;
-                c += shadeTexel(layerTexel(l, x, y), x, y + l * h) * wgt;
+                const GBufferTexel& g = layerTexel(l, x, y);
+                if (g.material < 0) {
+                  c += scene.background * wgt;
+                  continue;
+                }
+                c += shadeTexel(g, x, y + l * h) * wgt;
                 alpha += wgt;
               }
             }

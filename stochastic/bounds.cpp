@@ -45,6 +45,7 @@ PixelRect footprint(const glm::vec4 c0[3], const glm::vec4 c1[3], const Domain& 
   const PixelRect whole{0, 0, width - 1, height - 1};
   double lox = HUGE_VAL, hix = -HUGE_VAL, loy = HUGE_VAL, hiy = -HUGE_VAL;
   bool any = false, unbounded = false;
+  double wmin = HUGE_VAL;  // over the projected points (the near plane's crossings included)
   auto add = [&](const P4& p) {
     if (!(p.w > 0.0)) {
       unbounded = true;
@@ -56,6 +57,7 @@ PixelRect footprint(const glm::vec4 c0[3], const glm::vec4 c1[3], const Domain& 
       return;
     }
     lox = std::min(lox, sx), hix = std::max(hix, sx), loy = std::min(loy, sy), hiy = std::max(hiy, sy);
+    wmin = std::min(wmin, p.w);
     any = true;
   };
   // Near-plane clipping of the hull: the points in front, and where each segment from a point in
@@ -74,12 +76,25 @@ PixelRect footprint(const glm::vec4 c0[3], const glm::vec4 c1[3], const Domain& 
   }
   if (unbounded) return whole;
   if (!any) return {};
+  // The exact test computes the vertices in float: its rounding grows with the magnitudes of the
+  // trajectory's ends (not with the position at the sample's time) over the smallest w in reach.
+  double magnitude = 0.0;
+  for (int i = 0; i < n; ++i)
+    magnitude = std::max(magnitude, std::abs(pts[i].x) + std::abs(pts[i].y) + std::abs(pts[i].w));
+  for (int i = 0; i < 3; ++i) {
+    const glm::vec4& a = c0[i];
+    const glm::vec4& b = c1[i];
+    magnitude = std::max(magnitude, double{std::abs(a.x)} + double{std::abs(a.y)} + double{std::abs(a.w)} +
+                                        double{std::abs(b.x)} + double{std::abs(b.y)} + double{std::abs(b.w)});
+  }
+  const double margin = kMarginPixels + kRelTol * magnitude / std::max(wmin, 1e-30) * std::max(width, height);
+  if (!std::isfinite(margin) || margin > 4.0 * std::max(width, height)) return whole;
   // Pixel i is sampled at i + 0.5.
-  auto lo = [](double s, int size) {
-    return static_cast<int>(std::clamp(std::ceil(s - 0.5 - kMarginPixels), 0.0, static_cast<double>(size)));
+  auto lo = [&](double s, int size) {
+    return static_cast<int>(std::clamp(std::ceil(s - 0.5 - margin), 0.0, static_cast<double>(size)));
   };
-  auto hi = [](double s, int size) {
-    return static_cast<int>(std::clamp(std::floor(s - 0.5 + kMarginPixels), -1.0, static_cast<double>(size - 1)));
+  auto hi = [&](double s, int size) {
+    return static_cast<int>(std::clamp(std::floor(s - 0.5 + margin), -1.0, static_cast<double>(size - 1)));
   };
   return {lo(lox, width), lo(loy, height), hi(hix, width), hi(hiy, height)};
 }

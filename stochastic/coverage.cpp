@@ -112,33 +112,43 @@ bool evaluate(const glm::vec4 c[3], const float* const vary[3], int nv, const Sa
     sv[i] = raster::projectClipped(poly + i * raster::kClipStride, tg.vp);
     if (sv[i].flags & raster::kOutGuard) return false;
   }
+  // The pipeline draws every fan triangle that covers the pixel and keeps the strictly nearest
+  // (the first on a tie): fan triangles can overlap by a snapping step when the polygon is nearly
+  // flat.
+  int best = -1;
+  float bestDepth = 0.0f;
   for (int i = 1; i + 1 < n; ++i) {
     if (!insideSnapped(sv[0], sv[i], sv[i + 1], tg.cull, px, py)) continue;
     raster::SetupTri t;
+    int order[3];
+    if (raster::setupTriangle(sv[0], sv[i], sv[i + 1], tg.cull, tg.vp, t, nullptr, order) != raster::SetupResult::Ok)
+      continue;
+    const float z = raster::depthAt(t, px, py);
+    if (best < 0 || z < bestDepth) best = i, bestDepth = z;
+  }
+  if (best < 0) return false;
+  depth = bestDepth;
+  if constexpr (kFragment) {
+    const int i = best;
+    raster::SetupTri t;
     raster::SetupAttr a;
     int order[3];
-    if (raster::setupTriangle(sv[0], sv[i], sv[i + 1], tg.cull, tg.vp, t, kFragment ? &a : nullptr, order) !=
-        raster::SetupResult::Ok)
-      continue;
-    depth = raster::depthAt(t, px, py);
-    if constexpr (kFragment) {
-      // The pipeline keeps the clipped vertices' varyings as float.
-      const int ref[3] = {0, i, i + 1};
-      float vk[3][raster::kMaxVaryings + 3];
-      const float* v[3];
-      for (int k = 0; k < 3; ++k) {
-        const double* p = poly + ref[order[k]] * raster::kClipStride;
-        for (int ch = 0; ch < stride; ++ch) vk[k][ch] = static_cast<float>(p[4 + ch]);
-        v[k] = vk[k];
-      }
-      float b[3];
-      interpolate(t, a, v, stride, px, py, out, b);
-      f->b0 = out[nv], f->b1 = out[nv + 1], f->b2 = out[nv + 2];
-      f->frontFacing = a.frontFacing;
+    raster::setupTriangle(sv[0], sv[i], sv[i + 1], tg.cull, tg.vp, t, &a, order);
+    // The pipeline keeps the clipped vertices' varyings as float.
+    const int ref[3] = {0, i, i + 1};
+    float vk[3][raster::kMaxVaryings + 3];
+    const float* v[3];
+    for (int k = 0; k < 3; ++k) {
+      const double* p = poly + ref[order[k]] * raster::kClipStride;
+      for (int ch = 0; ch < stride; ++ch) vk[k][ch] = static_cast<float>(p[4 + ch]);
+      v[k] = vk[k];
     }
-    return true;
+    float b[3];
+    interpolate(t, a, v, stride, px, py, out, b);
+    f->b0 = out[nv], f->b1 = out[nv + 1], f->b2 = out[nv + 2];
+    f->frontFacing = a.frontFacing;
   }
-  return false;
+  return true;
 }
 
 }  // namespace

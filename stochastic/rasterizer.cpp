@@ -101,6 +101,11 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
   if ((base.depth && (base.depth->width() != width || base.depth->height() != height)) ||
       (base.covered && (base.covered->width() != width || base.covered->height() != height)))
     throw std::invalid_argument("stochastic: the static layer must have the output's size");
+  if (cfg.pattern.fixed) {
+    const Sample& f = *cfg.pattern.fixed;
+    if (!(f.t >= 0.0f && f.t < 1.0f) || !(f.u * f.u + f.v * f.v <= 1.0f))
+      throw std::invalid_argument("stochastic: a fixed sample needs t in [0, 1) and (u, v) in the unit disk");
+  }
   const bool lens = in.lens.active();
   const bool motion = in.motion;
   const int timeStrata = motion ? (cfg.timeStrata > 0 ? cfg.timeStrata : (lens ? 4 : 8)) : 1;
@@ -110,6 +115,17 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
   if (timeStrata > 64 || lensStrata > 8 || cfg.timeStrata < 0 || cfg.lensStrata < 0)
     throw std::invalid_argument("stochastic: interval strata must be in [1, 64] (time) and [1, 8] (lens)");
   const int strata = cfg.method == BoundMethod::Interval ? timeStrata * lensStrata * lensStrata : 1;
+  // Interval strata boundaries: the footprints' domains and the samples' membership use the same
+  // floats (a sample at a boundary belongs to exactly one stratum, whose domain holds it).
+  float tEdge[65], lEdge[9];
+  for (int i = 0; i <= timeStrata; ++i) tEdge[i] = static_cast<float>(i) / static_cast<float>(timeStrata);
+  for (int i = 0; i <= lensStrata; ++i)
+    lEdge[i] = -1.0f + 2.0f * static_cast<float>(i) / static_cast<float>(lensStrata);
+  auto cell = [](const float* edge, int n, float v) {  // the cell [edge[c], edge[c + 1]) holding v
+    int c = 0;
+    while (c + 1 < n && v >= edge[c + 1]) ++c;
+    return c;
+  };
   SamplePattern pattern = cfg.pattern;
   pattern.motion = motion;
   pattern.lens = lens;
@@ -155,13 +171,11 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
           for (int ti = 0; ti < timeStrata; ++ti)
             for (int ui = 0; ui < lensStrata; ++ui)
               for (int vi = 0; vi < lensStrata; ++vi) {
+                // The first and last cells reach to the domain's ends (every sample is inside).
                 Domain d;
-                d.t0 = static_cast<float>(ti) / static_cast<float>(timeStrata);
-                d.t1 = static_cast<float>(ti + 1) / static_cast<float>(timeStrata);
-                d.u0 = -1.0f + 2.0f * static_cast<float>(ui) / static_cast<float>(lensStrata);
-                d.u1 = -1.0f + 2.0f * static_cast<float>(ui + 1) / static_cast<float>(lensStrata);
-                d.v0 = -1.0f + 2.0f * static_cast<float>(vi) / static_cast<float>(lensStrata);
-                d.v1 = -1.0f + 2.0f * static_cast<float>(vi + 1) / static_cast<float>(lensStrata);
+                d.t0 = tEdge[ti], d.t1 = tEdge[ti + 1];
+                d.u0 = lEdge[ui], d.u1 = lEdge[ui + 1];
+                d.v0 = lEdge[vi], d.v1 = lEdge[vi + 1];
                 strataRects[tri * static_cast<size_t>(strata) +
                             static_cast<size_t>((ti * lensStrata + ui) * lensStrata + vi)] =
                     footprint(a, b, d, in.lens, motion, width, height);
@@ -173,7 +187,7 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
   // Binning (serial: a few entries per moving triangle), submission order per tile.
   const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
   const size_t numTiles = static_cast<size_t>(tilesX) * static_cast<size_t>(tilesY);
-  std::vector<uint32_t> offsets(numTiles + 1, 0);
+  std::vector<uint64_t> offsets(numTiles + 1, 0);
   for (size_t tri = 0; tri < triCount; ++tri) {
     const TriSetup& s = setup[tri];
     if (!s.live) continue;
@@ -186,7 +200,7 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
   for (size_t t = 0; t < numTiles; ++t) offsets[t + 1] += offsets[t];
   std::vector<uint32_t> entries(offsets[numTiles]);
   {
-    std::vector<uint32_t> cursor(offsets.begin(), offsets.end() - 1);
+    std::vector<uint64_t> cursor(offsets.begin(), offsets.end() - 1);
     for (size_t tri = 0; tri < triCount; ++tri) {
       const TriSetup& s = setup[tri];
       if (!s.live) continue;
@@ -214,9 +228,9 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
   if (debug.sampleDepth) debug.sampleDepth->assign(stats.samples, 1.0f);
   if (debug.testsPerPixel) debug.testsPerPixel->assign(static_cast<size_t>(width) * static_cast<size_t>(height), 0);
   // Per-triangle counts (integers added atomically: the totals do not depend on the schedule).
-  std::vector<uint32_t> ownTests, ownHits;
-  std::vector<uint32_t>& triTestsOut = debug.testsPerTriangle ? *debug.testsPerTriangle : ownTests;
-  std::vector<uint32_t>& triHitsOut = debug.hitsPerTriangle ? *debug.hitsPerTriangle : ownHits;
+  std::vector<uint64_t> ownTests, ownHits;
+  std::vector<uint64_t>& triTestsOut = debug.testsPerTriangle ? *debug.testsPerTriangle : ownTests;
+  std::vector<uint64_t>& triHitsOut = debug.hitsPerTriangle ? *debug.hitsPerTriangle : ownHits;
   triTestsOut.assign(triCount, 0);
   triHitsOut.assign(triCount, 0);
 
@@ -319,12 +333,9 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
                   for (int k = k0; k <= k1; ++k) {
                     const Sample& smp = sc.samples[p * sppz + static_cast<size_t>(k)];
                     ++st.samplesScanned;
-                    const int sti = std::min(timeStrata - 1, static_cast<int>(smp.t * static_cast<float>(timeStrata)));
-                    const int sui = std::clamp(static_cast<int>((smp.u + 1.0f) * 0.5f * static_cast<float>(lensStrata)), 0,
-                                               lensStrata - 1);
-                    const int svi = std::clamp(static_cast<int>((smp.v + 1.0f) * 0.5f * static_cast<float>(lensStrata)), 0,
-                                               lensStrata - 1);
-                    if (sti != ti || sui != ui || svi != vi) continue;
+                    if (cell(tEdge, timeStrata, smp.t) != ti || cell(lEdge, lensStrata, smp.u) != ui ||
+                        cell(lEdge, lensStrata, smp.v) != vi)
+                      continue;
                     test(p, x, y, k);
                   }
                 }
@@ -360,8 +371,8 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
           }
           st.tests += triTests;
           st.hits += triHits;
-          if (triTests) std::atomic_ref<uint32_t>(triTestsOut[tri]).fetch_add(static_cast<uint32_t>(triTests));
-          if (triHits) std::atomic_ref<uint32_t>(triHitsOut[tri]).fetch_add(static_cast<uint32_t>(triHits));
+          if (triTests) std::atomic_ref<uint64_t>(triTestsOut[tri]).fetch_add(triTests);
+          if (triHits) std::atomic_ref<uint64_t>(triHitsOut[tri]).fetch_add(triHits);
         }
 
         // Resolve: group each pixel's samples by surface.

@@ -112,8 +112,8 @@ struct StochasticDebug {
   std::vector<uint32_t>* sampleTriangle = nullptr;  // per sample (pixel-major, S per pixel): what covers it
   std::vector<float>* sampleDepth = nullptr;        // per sample: its depth
   std::vector<uint32_t>* testsPerPixel = nullptr;   // per pixel: exact tests
-  std::vector<uint32_t>* testsPerTriangle = nullptr;
-  std::vector<uint32_t>* hitsPerTriangle = nullptr;
+  std::vector<uint64_t>* testsPerTriangle = nullptr;
+  std::vector<uint64_t>* hitsPerTriangle = nullptr;
 };
 
 // Called once per pixel after its resolve, from the tile's task (concurrently for distinct tiles):

@@ -60,12 +60,12 @@ TEST(Stress, ShadowSuiteFiniteAndInRange) {
 TEST(Stress, StochasticSuiteAgreesWithTestingEverySample) {
   raster::Rasterizer r({.threads = 2});
   const std::vector<StochasticStressRow> rows = runStochasticStress(r);
-  ASSERT_EQ(rows.size(), 36u);
+  ASSERT_EQ(rows.size(), 39u);
   uint64_t hits = 0;
   for (const StochasticStressRow& row : rows) {
     EXPECT_TRUE(row.ok()) << row.json();
     hits += row.hits;
-    if (row.method == "dual" && (row.name == "motion across" || row.name == "huge circle of confusion")) {
+    if (row.method == "dual" && row.tests > 0 && (row.name == "motion across" || row.name == "huge circle of confusion")) {
       EXPECT_GT(static_cast<double>(row.hits), 0.15 * static_cast<double>(row.tests)) << row.json();
     }
   }

@@ -5,6 +5,7 @@
 #include <tbb/global_control.h>
 
 #include <cstring>
+#include <glm/ext/matrix_transform.hpp>
 
 #include "engine/builtin_scenes.h"
 #include "engine/metrics.h"
@@ -161,6 +162,37 @@ TEST(StochasticRender, FixedSampleFramesMoveTheInstancesAndTheLens) {
   const Frame lens = r.render(scene, o);
   EXPECT_NE(bytes(open.color), bytes(close.color));
   EXPECT_NE(bytes(open.color), bytes(lens.color));
+}
+
+// An object just in front of a wide lens, far out of focus, is pushed off one side of the view by
+// one lens corner and off the other side by the opposite one: it is still seen through the middle
+// of the lens and must not be culled.
+TEST(StochasticRender, LensFrustumCullingKeepsObjectsSeenThroughTheMiddleOfTheLens) {
+  Scene scene = builtin("defocus");
+  scene.camera->apertureRadius = 0.5f;
+  scene.camera->focusDistance = 10.0f;
+  const glm::vec3 eye = scene.camera->eye, fwd = glm::normalize(scene.camera->target - eye);
+  Mesh ball = scene.meshes.back();
+  scene.meshes.push_back(ball);
+  Instance near;
+  near.name = "near ball";
+  near.mesh = static_cast<int>(scene.meshes.size()) - 1;
+  near.transform = glm::scale(glm::translate(glm::mat4(1.0f), eye + fwd * 0.6f), glm::vec3(0.05f));
+  scene.instances.push_back(near);
+  ASSERT_TRUE(validateScene(scene, "test").ok());
+  Renderer r(2);
+  RenderOptions o = small();
+  o.spp = 8;
+  o.shadow = "none";
+  o.camera = scene.camera;
+  const Frame f = r.render(scene, o);
+  for (const std::string& n : f.stats.culledNames) EXPECT_NE(n, "near ball");
+  const uint32_t id = static_cast<uint32_t>(scene.instances.size() - 1);
+  int pixels = 0;
+  for (int y = 0; y < f.resolved.height(); ++y)
+    for (int x = 0; x < f.resolved.width(); ++x)
+      for (int l = 0; l < f.resolved.at(x, y).layers; ++l) pixels += f.resolved.at(x, y).layer[l].surface == id ? 1 : 0;
+  EXPECT_GT(pixels, 100) << "the near ball's blur covers the middle of the view";
 }
 
 TEST(StochasticRender, RejectsSamplesPerPixelOutOfRange) {

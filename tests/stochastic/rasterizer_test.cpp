@@ -201,6 +201,37 @@ TEST(StochasticRasterizer, StressCasesStayFiniteAndBounded) {
     expectSameImage(all, render(s, lens, m, 16), boundMethodName(m));
 }
 
+// A whip pan: trajectories whose ends lie thousands of screens away, so that the float rounding of
+// the vertex at the sample's time exceeds a fixed pixel margin; the bounds must still hold.
+TEST(StochasticRasterizer, BoundsHoldForTrajectoriesFarOffScreen) {
+  const glm::mat4 proj = test::testProjection(kW, kH);
+  std::mt19937 rng(17);
+  test::MovingSoup s = test::randomSoup(rng, 40, proj, 3.0f, 6.0f, 0.8f, 0.0f);
+  for (size_t i = 0; i < s.clip0.size(); ++i) {
+    const float sweep = 3000.0f * s.clip0[i].w;  // about 3000 screens to each side
+    s.clip1[i] = s.clip0[i] + glm::vec4(sweep, 0.0f, 0.0f, 0.0f);
+    s.clip0[i].x -= sweep;
+  }
+  const RunResult all = render(s, ThinLens{}, BoundMethod::Box, 64, 2, true, true, true);
+  EXPECT_GT(all.stats.hits, 0u);
+  for (BoundMethod m : {BoundMethod::Box, BoundMethod::Interval, BoundMethod::DualSpace})
+    expectSameImage(all, render(s, ThinLens{}, m, 64), boundMethodName(m));
+}
+
+TEST(StochasticRasterizer, RejectsAFixedSampleOutsideTheShutterOrTheLens) {
+  raster::Rasterizer r({.threads = 1});
+  StochasticRasterizer sr(r);
+  const test::MovingSoup s;
+  StochasticInput in{s.clip0, s.clip1, s.indices, s.surface, raster::CullMode::None, ThinLens{}, true};
+  raster::Image<ResolvedPixel> out(8, 8);
+  for (const Sample bad : {Sample{1.0f, 0.0f, 0.0f}, Sample{-0.1f, 0.0f, 0.0f}, Sample{0.5f, 0.9f, 0.9f},
+                           Sample{std::nanf(""), 0.0f, 0.0f}}) {
+    StochasticConfig cfg;
+    cfg.pattern.fixed = bad;
+    EXPECT_THROW(sr.render(in, cfg, {}, out), std::invalid_argument);
+  }
+}
+
 TEST(SamplePattern, StratifiedInTimeInsideTheDiskAndDeterministic) {
   SamplePattern p;
   p.spp = 16;
