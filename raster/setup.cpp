@@ -13,16 +13,22 @@ GuardPlanes guardPlanes(const Viewport& vp) {
 
 namespace {
 
-ScreenVert snapScreen(double wd, double x, double y, double z, const Viewport& vp, bool clamp) {
-  ScreenVert s;
+// Snapped x, y (z and 1/w left to the caller). lrint rounds to nearest, ties to even (the default
+// rounding mode), as nearbyint would, but compiles to one instruction.
+void snapXY(ScreenVert& s, double wd, double x, double y, const Viewport& vp, bool clamp) {
   double sx = (x / wd * 0.5 + 0.5) * vp.width;
   double sy = (0.5 - y / wd * 0.5) * vp.height;
   if (clamp) {
     sx = std::clamp(sx, -kGuardBandPixels, kGuardBandPixels);
     sy = std::clamp(sy, -kGuardBandPixels, kGuardBandPixels);
   }
-  s.x = static_cast<int32_t>(std::nearbyint(sx * kSubpixelOne - kSubpixelOne / 2));
-  s.y = static_cast<int32_t>(std::nearbyint(sy * kSubpixelOne - kSubpixelOne / 2));
+  s.x = static_cast<int32_t>(std::lrint(sx * kSubpixelOne - kSubpixelOne / 2));
+  s.y = static_cast<int32_t>(std::lrint(sy * kSubpixelOne - kSubpixelOne / 2));
+}
+
+ScreenVert snapScreen(double wd, double x, double y, double z, const Viewport& vp, bool clamp) {
+  ScreenVert s;
+  snapXY(s, wd, x, y, vp, clamp);
   s.z = static_cast<float>(z / wd);
   s.iw = static_cast<float>(1.0 / wd);
   return s;
@@ -30,7 +36,7 @@ ScreenVert snapScreen(double wd, double x, double y, double z, const Viewport& v
 
 }  // namespace
 
-ScreenVert projectVertex(float x, float y, float z, float w, const Viewport& vp, const GuardPlanes& guard) {
+ScreenVert projectVertexXY(float x, float y, float z, float w, const Viewport& vp, const GuardPlanes& guard) {
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(w)) {
     ScreenVert s;
     s.flags = kNonFinite;
@@ -47,13 +53,23 @@ ScreenVert projectVertex(float x, float y, float z, float w, const Viewport& vp,
   const double xd = x, yd = y, wd = w;
   double d[4];
   guardDistances(guard, xd, yd, wd, d);
+  ScreenVert s;
   if (!(w > 0.0f) || d[0] < 0.0 || d[1] < 0.0 || d[2] < 0.0 || d[3] < 0.0) {
-    ScreenVert s;
     s.flags = f | kOutGuard;
     return s;
   }
-  ScreenVert s = snapScreen(wd, xd, yd, static_cast<double>(z), vp, false);
+  snapXY(s, wd, xd, yd, vp, false);
   s.flags = f;
+  return s;
+}
+
+ScreenVert projectVertex(float x, float y, float z, float w, const Viewport& vp, const GuardPlanes& guard) {
+  ScreenVert s = projectVertexXY(x, y, z, w, vp, guard);
+  if (!(s.flags & (kNonFinite | kOutGuard))) {
+    const double wd = w;
+    s.z = static_cast<float>(static_cast<double>(z) / wd);
+    s.iw = static_cast<float>(1.0 / wd);
+  }
   return s;
 }
 

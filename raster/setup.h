@@ -54,6 +54,8 @@ inline void guardDistances(const GuardPlanes& g, double x, double y, double w, d
 }
 
 ScreenVert projectVertex(float x, float y, float z, float w, const Viewport& vp, const GuardPlanes& guard);
+// The same flags and snapped x, y, without z and 1/w (left 0): what coverage alone needs.
+ScreenVert projectVertexXY(float x, float y, float z, float w, const Viewport& vp, const GuardPlanes& guard);
 // A vertex made by the clipper (double precision, w > 0, on or inside every plane up to rounding):
 // its screen position is clamped into the guard band before snapping.
 ScreenVert projectClipped(const double p[4], const Viewport& vp);

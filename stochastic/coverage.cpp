@@ -64,10 +64,11 @@ void interpolate(const raster::SetupTri& t, const raster::SetupAttr& a, const fl
 template <bool kFragment>
 bool evaluate(const glm::vec4 c[3], const float* const vary[3], int nv, const SampleTarget& tg, int px, int py,
               float& depth, raster::Fragment* f, float* out) {
+  // Flags and snapped x, y first (what coverage needs); z and 1/w only for a covered sample.
   ScreenVert s[3];
   uint32_t orFlags = 0, andFlags = ~0u;
   for (int k = 0; k < 3; ++k) {
-    s[k] = raster::projectVertex(c[k].x, c[k].y, c[k].z, c[k].w, tg.vp, tg.guard);
+    s[k] = raster::projectVertexXY(c[k].x, c[k].y, c[k].z, c[k].w, tg.vp, tg.guard);
     orFlags |= s[k].flags;
     andFlags &= s[k].flags;
   }
@@ -75,6 +76,7 @@ bool evaluate(const glm::vec4 c[3], const float* const vary[3], int nv, const Sa
   if (andFlags & raster::kFrustumMask) return false;
   if (!(orFlags & raster::kNeedsClip)) {
     if (!insideSnapped(s[0], s[1], s[2], tg.cull, px, py)) return false;
+    for (int k = 0; k < 3; ++k) s[k] = raster::projectVertex(c[k].x, c[k].y, c[k].z, c[k].w, tg.vp, tg.guard);
     raster::SetupTri t;
     raster::SetupAttr a;
     int order[3];
