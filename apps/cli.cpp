@@ -4,10 +4,21 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 #include <vector>
 
+#include "engine/builtin_scenes.h"
+#include "engine/scene_file.h"
+
 namespace penumbra::apps {
+
+std::pair<std::string, engine::Scene> loadSceneArgument(const std::string& name) {
+  const bool isFile = name.find('.') != std::string::npos || name.find('/') != std::string::npos;
+  engine::Result<engine::Scene> s = isFile ? engine::loadScene(name) : engine::makeBuiltinScene(name);
+  if (!s) fail(s.error());
+  return {isFile ? std::filesystem::path(name).stem().string() : name, std::move(*s)};
+}
 
 glm::vec3 parseVec3(const std::string& option, const std::string& text) {
   std::vector<float> v;

@@ -7,8 +7,10 @@
 #include <glm/vec3.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "engine/error.h"
+#include "engine/scene.h"
 
 namespace penumbra::apps {
 
@@ -24,6 +26,10 @@ struct UsageError {
 
 // "X,Y,Z" -> vector; anything else is a UsageError naming the option.
 glm::vec3 parseVec3(const std::string& option, const std::string& text);
+
+// A bench's --scene argument: a built-in scene's name, or a scene file when it holds a '.' or a
+// '/' (then labelled by its stem). Bad names and files are a UsageError.
+std::pair<std::string, engine::Scene> loadSceneArgument(const std::string& name);
 
 // Progress on stderr: one line per step (overwritten in place on a terminal). With a delay, steps
 // are shown only once the task has run that many seconds (quick commands stay quiet).

@@ -84,11 +84,8 @@ int runBenchShadows(const BenchShadowsArgs& a) {
   if (sceneNames.empty()) sceneNames = {"contact", "fusion", "thin", "complex", "biglight"};
   std::vector<std::pair<std::string, engine::Scene>> scenes;
   for (const std::string& name : sceneNames) {
-    const bool isFile = name.find('.') != std::string::npos || name.find('/') != std::string::npos;
-    engine::Result<engine::Scene> s = isFile ? engine::loadScene(name) : engine::makeBuiltinScene(name);
-    if (!s) fail(s.error());
-    if (s->areaLights.empty()) fail(name, "the scene has no area light to benchmark");
-    scenes.emplace_back(isFile ? std::filesystem::path(name).stem().string() : name, std::move(*s));
+    scenes.push_back(loadSceneArgument(name));
+    if (scenes.back().second.areaLights.empty()) fail(name, "the scene has no area light to benchmark");
   }
   // (technique, parameter list) pairs: the registry's bench settings, or the ones asked for.
   std::vector<std::pair<const shadows::TechniqueInfo*, std::string>> runs;

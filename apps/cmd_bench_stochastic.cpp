@@ -184,12 +184,8 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
   }
   const std::string shadowParams = checkShadowOptions(a.shadow, {});
   std::vector<std::pair<std::string, engine::Scene>> scenes;
-  for (const std::string& name : a.scenes.empty() ? std::vector<std::string>{"motion", "defocus", "motion-defocus"} : a.scenes) {
-    const bool isFile = name.find('.') != std::string::npos || name.find('/') != std::string::npos;
-    engine::Result<engine::Scene> s = isFile ? engine::loadScene(name) : engine::makeBuiltinScene(name);
-    if (!s) fail(s.error());
-    scenes.emplace_back(isFile ? std::filesystem::path(name).stem().string() : name, std::move(*s));
-  }
+  for (const std::string& name : a.scenes.empty() ? std::vector<std::string>{"motion", "defocus", "motion-defocus"} : a.scenes)
+    scenes.push_back(loadSceneArgument(name));
   const std::filesystem::path out(a.out);
   std::error_code ec;
   std::filesystem::create_directories(out, ec);

@@ -242,12 +242,9 @@ void Rasterizer::shadeTile(void* user, const detail::TileScratch& s, const Raste
       m &= m - 1;
       f.x = h.bx * kBlockSize + (bit & (kBlockSize - 1));
       f.y = h.by * kBlockSize + (bit >> kBlockLog2);
-      const float dx = static_cast<float>(f.x - t.minX), dy = static_cast<float>(f.y - t.minY);
-      const float sw = (a.sw0 + a.swx * dx) + a.swy * dy;
-      const float s1 = (a.s10 + a.s1x * dx) + a.s1y * dy;
-      const float s2 = (a.s20 + a.s2x * dx) + a.s2y * dy;
-      const float iw = 1.0f / sw;
-      const float b1 = s1 * iw, b2 = s2 * iw, b0 = 1.0f - b1 - b2;
+      float bc[3];
+      orderedBarycentrics(t, a, f.x, f.y, bc);
+      const float b0 = bc[0], b1 = bc[1], b2 = bc[2];
       for (int c = 0; c < nInterp; ++c) vary[c] = v[0][c] * b0 + v[1][c] * b1 + v[2][c] * b2;
       f.depth = depthAt(t, f.x, f.y);
       if (a.clipped) {

@@ -116,6 +116,19 @@ inline int64_t edgeAt(const SetupTri& t, const EdgeCoefficients& e, int k, int64
   return int64_t{e.a[k]} * (i * kSubpixelOne - t.vx[k]) + int64_t{e.b[k]} * (j * kSubpixelOne - t.vy[k]) - e.bias[k];
 }
 
+// Perspective-correct barycentrics of the ordered vertices at pixel (i, j), exactly as the fragment
+// stage computes them (Rasterizer::shadeTile and stochastic::sampleFragment share this).
+inline void orderedBarycentrics(const SetupTri& t, const SetupAttr& a, int i, int j, float b[3]) {
+  const float dx = static_cast<float>(i - t.minX), dy = static_cast<float>(j - t.minY);
+  const float sw = (a.sw0 + a.swx * dx) + a.swy * dy;
+  const float s1 = (a.s10 + a.s1x * dx) + a.s1y * dy;
+  const float s2 = (a.s20 + a.s2x * dx) + a.s2y * dy;
+  const float iw = 1.0f / sw;
+  b[1] = s1 * iw;
+  b[2] = s2 * iw;
+  b[0] = 1.0f - b[1] - b[2];
+}
+
 // Depth of the triangle's plane at pixel (i, j), exactly as the tile stage computes it.
 inline float depthAt(const SetupTri& t, int i, int j) {
   const float dx = static_cast<float>(i - t.minX), dy = static_cast<float>(j - t.minY);

@@ -50,14 +50,8 @@ bool insideSnapped(const ScreenVert& v0, const ScreenVert& v1, const ScreenVert&
 // the set-up triangle's planes, at pixel (px, py).
 void interpolate(const raster::SetupTri& t, const raster::SetupAttr& a, const float* const v[3], int stride, int px,
                  int py, float* out, float b[3]) {
-  const float dx = static_cast<float>(px - t.minX), dy = static_cast<float>(py - t.minY);
-  const float sw = (a.sw0 + a.swx * dx) + a.swy * dy;
-  const float s1 = (a.s10 + a.s1x * dx) + a.s1y * dy;
-  const float s2 = (a.s20 + a.s2x * dx) + a.s2y * dy;
-  const float iw = 1.0f / sw;
-  const float b1 = s1 * iw, b2 = s2 * iw, b0 = 1.0f - b1 - b2;
-  for (int c = 0; c < stride; ++c) out[c] = v[0][c] * b0 + v[1][c] * b1 + v[2][c] * b2;
-  b[0] = b0, b[1] = b1, b[2] = b2;
+  raster::orderedBarycentrics(t, a, px, py, b);
+  for (int c = 0; c < stride; ++c) out[c] = v[0][c] * b[0] + v[1][c] * b[1] + v[2][c] * b[2];
 }
 
 // Shared body of sampleCoverage and sampleFragment. kFragment: fill f and out.

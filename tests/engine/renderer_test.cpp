@@ -8,15 +8,12 @@
 #include "engine/builtin_scenes.h"
 #include "engine/renderer.h"
 #include "engine/shapes.h"
+#include "test_util.h"
 
 namespace penumbra::engine {
 namespace {
 
-std::vector<uint8_t> bytes(const raster::ImageRgba8& img) {
-  std::vector<uint8_t> b;
-  for (const raster::Rgba8& p : img.packed()) b.insert(b.end(), {p.r, p.g, p.b, p.a});
-  return b;
-}
+using test::bytes;
 
 TEST(Renderer, DefaultSceneIsByteIdenticalAcrossThreadCounts) {
   tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 8);

@@ -11,15 +11,12 @@
 #include "engine/metrics.h"
 #include "engine/renderer.h"
 #include "engine/shapes.h"
+#include "test_util.h"
 
 namespace penumbra::engine {
 namespace {
 
-std::vector<uint8_t> bytes(const raster::ImageRgba8& img) {
-  std::vector<uint8_t> b;
-  for (const raster::Rgba8& p : img.packed()) b.insert(b.end(), {p.r, p.g, p.b, p.a});
-  return b;
-}
+using test::bytes;
 
 raster::Image<uint8_t> reachable(const Frame& f, const shadows::RectLight& light) {
   raster::Image<uint8_t> m(f.gbuffer.width(), f.gbuffer.height(), 0);

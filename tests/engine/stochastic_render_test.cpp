@@ -10,15 +10,12 @@
 #include "engine/builtin_scenes.h"
 #include "engine/metrics.h"
 #include "engine/renderer.h"
+#include "test_util.h"
 
 namespace penumbra::engine {
 namespace {
 
-std::vector<uint8_t> bytes(const raster::ImageRgba8& img) {
-  std::vector<uint8_t> b;
-  for (const raster::Rgba8& p : img.packed()) b.insert(b.end(), {p.r, p.g, p.b, p.a});
-  return b;
-}
+using test::bytes;
 
 bool sameLinear(const raster::ImageFloat4& a, const raster::ImageFloat4& b) {
   const std::vector<raster::Float4> pa = a.packed(), pb = b.packed();
