@@ -1,5 +1,6 @@
 #include "stochastic/coverage.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace penumbra::stochastic {
@@ -46,6 +47,54 @@ bool insideSnapped(const ScreenVert& v0, const ScreenVert& v1, const ScreenVert&
   return true;
 }
 
+// A quick, conservative reject: true only when the sample is certainly outside the triangle that
+// the exact test would snap. The snapped coordinates are approximated in float (1/w once per vertex)
+// with a bound on their distance from the exact ones, the orientation and the three edge functions
+// evaluated in double from them, and an edge rejects only when it is negative by more than what the
+// approximation can move it. Vertices the exact test would clip (or anywhere near the guard band)
+// and nearly degenerate triangles are left to the exact test.
+bool certainlyOutside(const glm::vec4 c[3], const SampleTarget& tg, int px, int py) {
+  constexpr float kLimit = 4194304.0f;  // 2^22 sub-pixel units: half the guard band
+  const float sxScale = 0.5f * static_cast<float>(tg.vp.width) * raster::kSubpixelOne;
+  const float syScale = 0.5f * static_cast<float>(tg.vp.height) * raster::kSubpixelOne;
+  double vx[3], vy[3], err[3];
+  for (int k = 0; k < 3; ++k) {
+    const float w = c[k].w;
+    // z in [0, w] and w > 0 (NaN fails too): otherwise the exact test may clip.
+    if (!(w > 0.0f) || !(c[k].z >= 0.0f) || !(c[k].z <= w)) return false;
+    const float iw = 1.0f / w;
+    // Screen position in sub-pixel units, pixel centres at integers, as snapScreen computes it.
+    const float sx = (c[k].x * iw * 0.5f + 0.5f) * (2.0f * sxScale) - 0.5f * raster::kSubpixelOne;
+    const float sy = (0.5f - c[k].y * iw * 0.5f) * (2.0f * syScale) - 0.5f * raster::kSubpixelOne;
+    if (!(std::abs(sx) < kLimit) || !(std::abs(sy) < kLimit)) return false;
+    vx[k] = sx, vy[k] = sy;
+    // Float rounding of the chain above (about 8 operations, relative 2^-24 each, on values up to
+    // the largest term) plus the snap's own half unit, with a wide safety factor.
+    const double mag = std::abs(double{c[k].x * iw}) * double{sxScale} + std::abs(double{c[k].y * iw}) * double{syScale} +
+                       double{sxScale} + double{syScale} + 2.0 * raster::kSubpixelOne;
+    err[k] = 0.5 + mag * 4e-6;
+  }
+  const double e = std::max({err[0], err[1], err[2]});
+  const double pxs = double{static_cast<float>(px)} * raster::kSubpixelOne, pys = double{static_cast<float>(py)} * raster::kSubpixelOne;
+  // Orientation from the approximate area; undecided when the approximation could flip it.
+  const double ax = vx[1] - vx[0], ay = vy[1] - vy[0], bx = vx[2] - vx[0], by = vy[2] - vy[0];
+  const double area = ax * by - ay * bx;
+  const double areaErr = 2.0 * e * (std::abs(ax) + std::abs(ay) + std::abs(bx) + std::abs(by)) + 8.0 * e * e;
+  if (!(std::abs(area) > areaErr)) return false;
+  const double sign = area > 0.0 ? 1.0 : -1.0;
+  for (int k = 0; k < 3; ++k) {
+    const int n = k == 2 ? 0 : k + 1;
+    const double dx = vx[n] - vx[k], dy = vy[n] - vy[k];
+    const double qx = pxs - vx[k], qy = pys - vy[k];
+    // Edge function with the triangle's orientation (inside >= 0), and what the approximation of
+    // both ends (each coordinate off by at most e) can change it by; the top-left bias is 0 or 1.
+    const double edge = sign * (dx * qy - dy * qx);
+    const double bound = e * (2.0 * std::abs(qy) + std::abs(dx) + 2.0 * std::abs(qx) + std::abs(dy)) + 4.0 * e * e + 1.0;
+    if (edge < -bound) return true;
+  }
+  return false;
+}
+
 // Interpolation exactly as Rasterizer::shadeTile: ordered vertices' varyings vk (stride floats),
 // the set-up triangle's planes, at pixel (px, py).
 void interpolate(const raster::SetupTri& t, const raster::SetupAttr& a, const float* const v[3], int stride, int px,
@@ -58,6 +107,7 @@ void interpolate(const raster::SetupTri& t, const raster::SetupAttr& a, const fl
 template <bool kFragment>
 bool evaluate(const glm::vec4 c[3], const float* const vary[3], int nv, const SampleTarget& tg, int px, int py,
               float& depth, raster::Fragment* f, float* out) {
+  if (certainlyOutside(c, tg, px, py)) return false;
   // Flags and snapped x, y first (what coverage needs); z and 1/w only for a covered sample.
   ScreenVert s[3];
   uint32_t orFlags = 0, andFlags = ~0u;
