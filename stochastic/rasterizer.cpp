@@ -68,6 +68,7 @@ struct TriSetup {
 
 struct TileScratch {
   std::vector<Sample> samples;
+  std::vector<uint16_t> stratum;  // interval method: each sample's stratum, (t * L + u) * L + v
   std::vector<float> depth;
   std::vector<uint32_t> ref;
   std::vector<uint32_t> tests;
@@ -256,6 +257,7 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
         sc.ref.resize(pixels * sppz);
         sc.tests.assign(pixels, 0);
         if (busy) sc.samples.resize(pixels * sppz);
+        if (busy && cfg.method == BoundMethod::Interval) sc.stratum.resize(pixels * sppz);
         for (int y = tr.y0; y <= tr.y1; ++y)
           for (int x = tr.x0; x <= tr.x1; ++x) {
             const size_t p = static_cast<size_t>(y - tr.y0) * static_cast<size_t>(tw) + static_cast<size_t>(x - tr.x0);
@@ -263,7 +265,15 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
             const uint32_t r = (base.covered && base.covered->at(x, y)) ? kStaticRef : kNoTriangle;
             std::fill_n(sc.depth.data() + p * sppz, sppz, z);
             std::fill_n(sc.ref.data() + p * sppz, sppz, r);
-            if (busy) pixelSamples(pattern, x, y, sc.samples.data() + p * sppz);
+            if (busy) {
+              Sample* smp = sc.samples.data() + p * sppz;
+              pixelSamples(pattern, x, y, smp);
+              if (cfg.method == BoundMethod::Interval)
+                for (size_t k = 0; k < sppz; ++k)
+                  sc.stratum[p * sppz + k] = static_cast<uint16_t>(
+                      (cell(tEdge, timeStrata, smp[k].t) * lensStrata + cell(lEdge, lensStrata, smp[k].u)) * lensStrata +
+                      cell(lEdge, lensStrata, smp[k].v));
+            }
           }
 
         for (const uint32_t* e = first; e != last; ++e) {
@@ -323,19 +333,17 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
             for (int si = 0; si < strata; ++si) {
               const PixelRect sr = intersect(strataRects[tri * static_cast<size_t>(strata) + static_cast<size_t>(si)], tr);
               if (sr.empty()) continue;
-              const int ti = si / (lensStrata * lensStrata), ui = (si / lensStrata) % lensStrata, vi = si % lensStrata;
+              const int ti = si / (lensStrata * lensStrata);  // the time stratum: an index range of the samples
               // Samples are sorted by time, one per 1/S of the shutter: the stratum's index range.
               const int k0 = stratified ? std::max(0, ti * spp / timeStrata - 1) : 0;
               const int k1 = stratified ? std::min(spp - 1, ((ti + 1) * spp + timeStrata - 1) / timeStrata) : spp - 1;
               for (int y = sr.y0; y <= sr.y1; ++y)
                 for (int x = sr.x0; x <= sr.x1; ++x) {
                   const size_t p = pixelIndex(x, y);
+                  const uint16_t* stratumOf = sc.stratum.data() + p * sppz;
                   for (int k = k0; k <= k1; ++k) {
-                    const Sample& smp = sc.samples[p * sppz + static_cast<size_t>(k)];
                     ++st.samplesScanned;
-                    if (cell(tEdge, timeStrata, smp.t) != ti || cell(lEdge, lensStrata, smp.u) != ui ||
-                        cell(lEdge, lensStrata, smp.v) != vi)
-                      continue;
+                    if (stratumOf[k] != si) continue;
                     test(p, x, y, k);
                   }
                 }
