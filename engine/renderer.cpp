@@ -639,7 +639,7 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
   frame.linear.resize(w, h);
   frame.color.resize(w, h);
   auto shadeTexel = [&](const GBufferTexel& g, int x, int vy) {
-    const Material& mat = g.material < static_cast<int32_t>(scene.materials.size())
+    const Material& mat = g.material >= 0 && g.material < static_cast<int32_t>(scene.materials.size())
                               ? scene.materials[static_cast<size_t>(g.material)]
                               : defaultMaterial;
     const glm::vec3 v = glm::normalize(cam.eye - g.position);

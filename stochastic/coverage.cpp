@@ -53,6 +53,8 @@ bool insideSnapped(const ScreenVert& v0, const ScreenVert& v1, const ScreenVert&
 // evaluated in double from them, and an edge rejects only when it is negative by more than what the
 // approximation can move it. Vertices the exact test would clip (or anywhere near the guard band)
 // and nearly degenerate triangles are left to the exact test.
+}  // namespace
+
 bool certainlyOutside(const glm::vec4 c[3], const SampleTarget& tg, int px, int py) {
   constexpr float kLimit = 4194304.0f;  // 2^22 sub-pixel units: half the guard band
   const float sxScale = 0.5f * static_cast<float>(tg.vp.width) * raster::kSubpixelOne;
@@ -94,6 +96,8 @@ bool certainlyOutside(const glm::vec4 c[3], const SampleTarget& tg, int px, int 
   }
   return false;
 }
+
+namespace {
 
 // Interpolation exactly as Rasterizer::shadeTile: ordered vertices' varyings vk (stride floats),
 // the set-up triangle's planes, at pixel (px, py).

@@ -60,6 +60,12 @@ struct SampleTarget {
 };
 SampleTarget makeSampleTarget(int width, int height, raster::CullMode cull);
 
+// The quick reject sampleCoverage starts with: true only when pixel centre (px, py) is certainly
+// outside the triangle the exact test would snap (float approximations of the snapped positions
+// with a bound on their error; anything near the guard band, the near or far plane or degenerate is
+// left undecided, false). Exposed for its tests.
+bool certainlyOutside(const glm::vec4 c[3], const SampleTarget& target, int px, int py);
+
 // Coverage of pixel centre (px, py) by the triangle with clip vertices c[3] (submission order), as
 // the main pipeline decides it; on coverage, `depth` receives z / w exactly as the tile stage
 // writes it. Non-finite vertices cover nothing.

@@ -257,7 +257,7 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
         sc.ref.resize(pixels * sppz);
         sc.tests.assign(pixels, 0);
         if (busy) sc.samples.resize(pixels * sppz);
-        if (busy && cfg.method == BoundMethod::Interval) sc.stratum.resize(pixels * sppz);
+        if (busy && cfg.method == BoundMethod::Interval && !cfg.exhaustive) sc.stratum.resize(pixels * sppz);
         for (int y = tr.y0; y <= tr.y1; ++y)
           for (int x = tr.x0; x <= tr.x1; ++x) {
             const size_t p = static_cast<size_t>(y - tr.y0) * static_cast<size_t>(tw) + static_cast<size_t>(x - tr.x0);
@@ -268,7 +268,7 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
             if (busy) {
               Sample* smp = sc.samples.data() + p * sppz;
               pixelSamples(pattern, x, y, smp);
-              if (cfg.method == BoundMethod::Interval)
+              if (cfg.method == BoundMethod::Interval && !cfg.exhaustive)
                 for (size_t k = 0; k < sppz; ++k)
                   sc.stratum[p * sppz + k] = static_cast<uint16_t>(
                       (cell(tEdge, timeStrata, smp[k].t) * lensStrata + cell(lEdge, lensStrata, smp[k].u)) * lensStrata +

@@ -3,6 +3,7 @@
 // position; for thousands of random triangles and motions, near-plane crossings included.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "raster/pipeline.h"
@@ -135,6 +136,69 @@ TEST(StochasticCoverage, DefocusAndBothMatchMainPipelinePerSample) {
   compareSoup(still, lens, 3, a);
   compareSoup(moving, lens, 4, b);
   EXPECT_GT(a.covered + b.covered, 10000);
+}
+
+// The quick reject on the largest target (16384 x 16384, where its error bound is widest): never
+// true for a pixel centre the exact snapped triangle covers. Vertices a few sub-pixel units from
+// pixel centres, edges through centres, vertices far off screen inside the guard band.
+TEST(StochasticCoverage, QuickRejectNeverRejectsACoveredSampleOnTheLargestTarget) {
+  constexpr int kSize = raster::kMaxTargetSize;
+  const SampleTarget target = makeSampleTarget(kSize, kSize, raster::CullMode::None);
+  std::mt19937 rng(31);
+  std::uniform_int_distribution<int> pixel(-12000, kSize + 12000), jitter(-3, 3), choice(0, 3);
+  std::uniform_real_distribution<float> wdist(0.05f, 50.0f);
+  // Exact: the pipeline's snapped coordinates and its integer edge test with the top-left rule.
+  auto exactInside = [&](const glm::vec4 c[3], int px, int py) {
+    raster::ScreenVert s[3];
+    for (int k = 0; k < 3; ++k) {
+      s[k] = raster::projectVertexXY(c[k].x, c[k].y, c[k].z, c[k].w, target.vp, target.guard);
+      if (s[k].flags & (raster::kNeedsClip | raster::kNonFinite)) return false;  // (not a quick-reject case)
+    }
+    const int64_t area = (int64_t{s[1].x} - s[0].x) * (int64_t{s[2].y} - s[0].y) - (int64_t{s[1].y} - s[0].y) * (int64_t{s[2].x} - s[0].x);
+    if (area == 0) return false;
+    const int o[3] = {0, area < 0 ? 2 : 1, area < 0 ? 1 : 2};
+    for (int k = 0; k < 3; ++k) {
+      const raster::ScreenVert& a = s[o[k]];
+      const raster::ScreenVert& b = s[o[(k + 1) % 3]];
+      const int64_t dx = int64_t{b.x} - a.x, dy = int64_t{b.y} - a.y;
+      const int64_t bias = (dy < 0 || (dy == 0 && dx > 0)) ? 0 : 1;
+      if (-dy * (int64_t{px} * 256 - a.x) + dx * (int64_t{py} * 256 - a.y) - bias < 0) return false;
+    }
+    return true;
+  };
+  // Clip position of sub-pixel point (sx, sy) (units of 1/256 pixel, pixel centres at 256 i) at w.
+  auto clipOf = [&](int64_t sx, int64_t sy, float w) {
+    const double nx = ((static_cast<double>(sx) + 128.0) / 256.0) / kSize * 2.0 - 1.0;
+    const double ny = 1.0 - ((static_cast<double>(sy) + 128.0) / 256.0) / kSize * 2.0;
+    return glm::vec4(static_cast<float>(nx * double{w}), static_cast<float>(ny * double{w}), 0.5f * w, w);
+  };
+  int rejected = 0, covered = 0;
+  for (int tri = 0; tri < 20000; ++tri) {
+    glm::vec4 c[3];
+    int64_t vx[3], vy[3];
+    for (int k = 0; k < 3; ++k) {
+      vx[k] = int64_t{pixel(rng)} * 256 + jitter(rng);
+      vy[k] = int64_t{pixel(rng)} * 256 + jitter(rng);
+      c[k] = clipOf(vx[k], vy[k], wdist(rng));
+    }
+    // Pixels near the vertices and on the edges' midpoints (where edges pass near centres).
+    for (int k = 0; k < 3; ++k) {
+      const int64_t mx = choice(rng) == 0 ? vx[k] : (vx[k] + vx[(k + 1) % 3]) / 2;
+      const int64_t my = choice(rng) == 0 ? vy[k] : (vy[k] + vy[(k + 1) % 3]) / 2;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const int px = static_cast<int>(std::clamp<int64_t>(mx / 256 + dx, 0, kSize - 1));
+          const int py = static_cast<int>(std::clamp<int64_t>(my / 256 + dy, 0, kSize - 1));
+          const bool inside = exactInside(c, px, py);
+          const bool quick = certainlyOutside(c, target, px, py);
+          ASSERT_FALSE(inside && quick) << "triangle " << tri << " pixel (" << px << ", " << py << ")";
+          rejected += quick ? 1 : 0;
+          covered += inside ? 1 : 0;
+        }
+    }
+  }
+  EXPECT_GT(rejected, 100000) << "the quick reject should decide most misses";
+  EXPECT_GT(covered, 50000);
 }
 
 TEST(StochasticCoverage, ClipAtKeepsStaticVerticesAndPinholesExact) {
