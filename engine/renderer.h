@@ -2,14 +2,17 @@
 //
 // The plan, printed with --stats: camera (given or fitted to the bounds), instances culled by
 // their world bounding box against the view frustum before any vertex work, one deferred
-// G-buffer pass (world position, normal, albedo, material) over the visible instances, then per
+// G-buffer pass (world position, normal, albedo, material) over the visible instances; when a
+// visible instance moves or the camera has an aperture, a stochastic pass (stochastic/) over the
+// moving (with a lens: all) instances on top of it, whose resolve turns the G-buffer into up to
+// three layers per pixel with their sample counts (docs/stochastic.md); then per
 // area light its visibility V from the chosen shadow technique (shadows/: the light's region is
 // fitted to the receivers the G-buffer holds; instances that cannot shadow them are culled before
 // their triangles are flattened to world space; a light with no caster in reach takes no shadow
 // pass), then a tile-parallel shading pass: Lambert diffuse plus Blinn-Phong specular from
 // directional and point lights (unshadowed) and area lights (exact unshadowed irradiance times V,
-// specular towards the light's centre), and a constant ambient term; the background where nothing
-// was drawn. Linear color is
+// specular towards the light's centre), and a constant ambient term, each layer shaded once and the
+// layers blended by their counts; the background where nothing was drawn. Linear color is
 // written to an RGBA8 sRGB image and, on request, kept as float.
 //
 // Conventions: world space right-handed, y up; clip space zero-to-one depth, depth test less.

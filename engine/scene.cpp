@@ -20,12 +20,6 @@ glm::mat4 Instance::transformAt(float t) const {
   return m;
 }
 
-bool Scene::hasMotion() const {
-  for (const Instance& inst : instances)
-    if (inst.moves()) return true;
-  return false;
-}
-
 bool Scene::worldBounds(glm::vec3& lo, glm::vec3& hi) const {
   lo = glm::vec3(std::numeric_limits<float>::max());
   hi = -lo;

@@ -98,7 +98,6 @@ struct Scene {
   glm::vec3 background{0.1f, 0.1f, 0.12f};
 
   size_t triangleCount() const;
-  bool hasMotion() const;
   // World-space bounding box of all instances; false when the scene is empty.
   bool worldBounds(glm::vec3& lo, glm::vec3& hi) const;
 };

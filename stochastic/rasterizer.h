@@ -11,8 +11,9 @@
 //            samples its bound admits, in submission order; then the resolve.
 // Bounding methods (BoundMethod): Box, the footprint over the whole shutter and lens; Interval,
 // the shutter cut into T strata and the lens square into L x L cells, each with its own footprint,
-// tested only against the samples inside it; DualSpace, per 8x8 block the times and lens
-// positions at which the triangle may overlap the block (Laine et al. 2011). All three give the
+// tested only against the samples inside it; DualSpace, per block of dualBlock x dualBlock pixels
+// (default 4) the times and lens positions at which the triangle may overlap the block (Laine et
+// al. 2011). All three give the
 // same bits; only the number of tests differs (sample test efficiency, STE = hits / tests).
 // A static triangle seen through a pinhole (c0 == c1, no lens) covers all or none of a pixel's
 // samples (they share the pixel centre): one test serves them all (counted as one test).
