@@ -519,7 +519,8 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
         const InstanceShading& sh = shading[k];
         const Mesh& mesh = scene.meshes[static_cast<size_t>(scene.instances[stochasticSet[k]].mesh)];
         // The shadow receiver is the layer's median-time sample itself (a point on the surface: an
-        // average of points on a curved surface lies inside it and would shadow itself).
+        // average of points on a curved surface lies inside it and would shadow itself); only that
+        // sample's mid-shutter position is computed.
         glm::vec3 sumP(0.0f), sumN(0.0f), sumA(0.0f);
         GBufferTexel first;
         bool same = true;
@@ -543,25 +544,28 @@ Frame Renderer::render(const Scene& scene, const RenderOptions& options) {
           if (!stochastic::sampleFragment(c, vp, kGbufferVaryings, target, x, y, f, out)) continue;
           f.primitive = prim;
           const GBufferTexel t = gbufferTexel(sh, f, cam.eye, pixelAngle);
-          glm::vec3 rp3 = t.position, rn3 = t.normal;
-          if (sh.moves) {
-            // Shadow receiver: the same barycentric point at the casters' time.
-            rp3 = glm::vec3(0.0f), rn3 = glm::vec3(0.0f);
-            const float b[3] = {f.b0, f.b1, f.b2};
-            for (int j = 0; j < 3; ++j) {
-              float v[kGbufferVaryings];
-              vertexVaryings(mesh, sh, mesh.indices[static_cast<size_t>(prim) * 3 + static_cast<size_t>(j)], casterTime, v);
-              rp3 += glm::vec3(v[0], v[1], v[2]) * b[j];
-              rn3 += glm::vec3(v[3], v[4], v[5]) * b[j];
+          if (s2 == L.sample) {
+            // Shadow receiver: the layer's median-time sample; a moving surface at the same
+            // barycentric point at the casters' time.
+            glm::vec3 rp3 = t.position, rn3 = t.normal;
+            if (sh.moves) {
+              rp3 = glm::vec3(0.0f), rn3 = glm::vec3(0.0f);
+              const float b[3] = {f.b0, f.b1, f.b2};
+              for (int j = 0; j < 3; ++j) {
+                float v[kGbufferVaryings];
+                vertexVaryings(mesh, sh, mesh.indices[static_cast<size_t>(prim) * 3 + static_cast<size_t>(j)], casterTime, v);
+                rp3 += glm::vec3(v[0], v[1], v[2]) * b[j];
+                rn3 += glm::vec3(v[3], v[4], v[5]) * b[j];
+              }
+              const float len = glm::length(rn3);
+              rn3 = len > 0.0f ? rn3 / len : t.normal;
+              if (glm::dot(rn3, t.normal) < 0.0f) rn3 = -rn3;
             }
-            const float len = glm::length(rn3);
-            rn3 = len > 0.0f ? rn3 / len : t.normal;
-            if (glm::dot(rn3, t.normal) < 0.0f) rn3 = -rn3;
+            rcv = {rp3, rn3, 1u};
           }
           if (n == 0) first = t;
           same &= t.position == first.position && t.normal == first.normal && t.albedo == first.albedo;
           sumP += t.position, sumN += t.normal, sumA += t.albedo;
-          if (s2 == L.sample) rcv = {rp3, rn3, 1u};
           ++n;
         }
         if (n == 0) {  // cannot happen (the resolve found these samples covered): blend as background
