@@ -253,6 +253,32 @@ StochasticStats StochasticRasterizer::render(const StochasticInput& in, const St
         const uint32_t* first = entries.data() + offsets[tile];
         const uint32_t* last = entries.data() + offsets[tile + 1];
         const bool busy = first != last;
+        if (!busy && !debug.sampleTriangle && !debug.sampleDepth) {
+          // No triangle reached the tile: every sample is the static layer's or background, as
+          // the resolve below would find (same pixels, without touching the samples).
+          uint32_t staticRefs[kMaxSpp], noRefs[kMaxSpp];
+          std::fill_n(staticRefs, spp, kStaticRef);
+          std::fill_n(noRefs, spp, kNoTriangle);
+          for (int y = tr.y0; y <= tr.y1; ++y)
+            for (int x = tr.x0; x <= tr.x1; ++x) {
+              const bool covered = base.covered && base.covered->at(x, y);
+              ResolvedPixel& o = out.at(x, y);
+              o = ResolvedPixel{};
+              if (covered) {
+                o.layers = 1;
+                o.layer[0].surface = kStaticSurface;
+                o.layer[0].count = static_cast<uint16_t>(spp);
+                o.layer[0].sample = static_cast<uint16_t>((spp - 1) / 2);
+                o.layer[0].triangle = kNoTriangle;
+              } else {
+                o.background = static_cast<uint16_t>(spp);
+              }
+              if (sink) (*sink)(x, y, o, covered ? staticRefs : noRefs, nullptr);
+              if (debug.testsPerPixel)
+                (*debug.testsPerPixel)[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)] = 0;
+            }
+          continue;
+        }
         sc.depth.resize(pixels * sppz);
         sc.ref.resize(pixels * sppz);
         sc.tests.assign(pixels, 0);
