@@ -91,6 +91,9 @@ Status writeAtomically(const std::string& path, const PixelView& px) {
     ImageSpec spec(px.width, px.height, px.channels, px.type);
     if (px.channels == 4) spec.alpha_channel = 3;
     spec.attribute("oiio:UnassociatedAlpha", 1);  // alpha is straight: no un-premultiplication
+    // No timestamp: OIIO's OpenEXR writer stamps the current time as capDate unless DateTime is
+    // set; an empty one keeps the same render's file the same bytes.
+    spec.attribute("DateTime", "");
     if (!out->open(tmp.string(), spec)) {
       const std::string why = oneLine(out->geterror());
       removeQuietly(tmp);
