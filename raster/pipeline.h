@@ -1,16 +1,18 @@
-// Rasterizer: the pipeline of raster/ (DESIGN.md "The pipeline"), stage by stage:
+// Rasterizer: the pipeline of raster/ (DESIGN.md "The pipeline"), stage by stage, each in its
+// own file and callable on its own:
 //
 //   vertex   user functor per vertex -> clip position (+ varyings); projected and snapped
 //            (setup.h projectVertex); non-finite positions flagged and counted.
-//   setup    per triangle, in parallel fixed-size chunks: frustum reject, homogeneous clipping for
-//            the triangles that need it (clip.h), snapping, facing and zero-area culling, exact
-//            edge functions (setup.h).
-//   bin      each chunk writes its own per-tile lists (CSR); a tile reads the chunks in index order,
-//            so submission order is preserved per tile whatever the scheduling.
+//   assemble per triangle, in parallel fixed-size chunks (assemble.h): frustum reject, homogeneous
+//            clipping for the triangles that need it (clip.h), then setup (setup.h): snapping,
+//            facing and zero-area culling, exact edge functions.
+//   bin      each chunk bins its set-up triangles to the tiles of the TileGrid (bin.h); a tile
+//            reads the chunks in index order, so submission order is preserved per tile whatever
+//            the scheduling.
 //   tile     one TBB task per tile (tile.h): hierarchical block reject/accept, coarse depth, SIMD
 //            coverage and early depth test.
 //   fragment (draw only) the user functor per pixel that passed, with perspective-correct
-//            barycentrics and varyings, in submission order within the tile.
+//            barycentrics and varyings, in submission order within the tile (fragment.h).
 //
 // Thread-safety: a Rasterizer is not thread-safe (one draw at a time); it owns the TBB arena its
 // passes run in and the scratch buffers they reuse. Functors are called concurrently from several
@@ -26,15 +28,17 @@
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
-#include <bit>
 #include <chrono>
 #include <cstdint>
 #include <glm/vec4.hpp>
 #include <span>
 #include <vector>
 
+#include "raster/assemble.h"
+#include "raster/bin.h"
 #include "raster/clip.h"
 #include "raster/depth_target.h"
+#include "raster/fragment.h"
 #include "raster/setup.h"
 #include "raster/stats.h"
 #include "raster/tile.h"
@@ -62,38 +66,13 @@ struct DrawDesc {
   bool depthWrite = true;
 };
 
-// What the fragment functor receives for one pixel.
-struct Fragment {
-  int x, y;
-  float depth;           // z / w, as written to the depth target
-  uint32_t primitive;    // triangle index in the draw
-  bool frontFacing;
-  float b0, b1, b2;      // perspective-correct barycentrics of the submitted vertices 0, 1, 2
-  const float* varyings; // DrawDesc::varyings floats, perspective-correct
-};
-
-namespace detail {
-struct Chunk {
-  std::vector<SetupTri> tris;
-  std::vector<SetupAttr> attrs;
-  std::vector<float> clipVary;          // varyings of vertices created by clipping
-  std::vector<uint32_t> tileOffsets;    // CSR: entries of tile t are [tileOffsets[t], tileOffsets[t+1])
-  std::vector<uint32_t> entries;        // indices into tris
-  std::vector<uint64_t> tileRect;       // per tri: packed tile bounding box (scratch)
-  PassStats stats;
-};
-struct TileScratch {
-  std::vector<const SetupTri*> tris;
-  std::vector<uint32_t> chunkOf;
-  std::vector<BlockHit> hits;
-};
-}  // namespace detail
-
 class Rasterizer {
  public:
   explicit Rasterizer(const RasterConfig& config = {});
 
   const RasterConfig& config() const { return config_; }
+  // The tiles of this rasterizer's passes over a width x height target.
+  TileGrid tileGrid(int width, int height) const { return TileGrid(width, height, config_.tileLog2); }
   int threads() const { return arena_.max_concurrency(); }
   // Runs f inside this rasterizer's arena (so TBB loops in f use its threads).
   template <class F>
@@ -117,12 +96,12 @@ class Rasterizer {
 
  private:
   using Clock = std::chrono::steady_clock;
-  using FragmentSink = void (*)(void* user, const detail::TileScratch& scratch, const Rasterizer& self);
+  using FragmentSink = void (*)(void* user, uint32_t tile, const TileWork& work, const Rasterizer& self);
 
   template <class VS, bool kVary>
   void vertexStage(uint32_t count, int nv, VS& vs, const Viewport& vp, PassStats& stats);
   void checkDraw(const DrawDesc& desc, const DepthTarget& depth) const;
-  // Setup and binning of triangles [first, last) of the draw into chunks_.
+  // Assembly, setup and binning of triangles [first, last) of the draw into chunks_.
   void frontEnd(const DrawDesc& desc, const Viewport& vp, bool wantAttrs, uint64_t first, uint64_t last,
                 PassStats& stats);
   // Tile stage of what frontEnd binned; per-tile counters accumulate in tileStats_.
@@ -131,7 +110,7 @@ class Rasterizer {
   void runBatches(const DrawDesc& desc, DepthTarget& depth, bool wantAttrs, FragmentSink sink, void* user,
                   PassStats& stats);
   template <class FS>
-  static void shadeTile(void* user, const detail::TileScratch& scratch, const Rasterizer& self);
+  static void shadeTile(void* user, uint32_t tile, const TileWork& work, const Rasterizer& self);
   static double ms(Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double, std::milli>(b - a).count();
   }
@@ -142,10 +121,12 @@ class Rasterizer {
   std::vector<glm::vec4> clip_;
   std::vector<ScreenVert> screen_;
   std::vector<float> vary_;
-  std::vector<detail::Chunk> chunks_;
+  // Per chunk of the current batch: its set-up triangles and their per-tile lists.
+  std::vector<AssembledChunk> chunks_;
+  std::vector<TileBins> bins_;
   size_t chunkCount_ = 0;
-  int tilesX_ = 0, tilesY_ = 0;
-  tbb::enumerable_thread_specific<detail::TileScratch> scratch_;
+  TileGrid grid_;
+  tbb::enumerable_thread_specific<TileWork> scratch_;
   std::vector<PassStats> tileStats_;
 };
 
@@ -214,56 +195,10 @@ PassStats Rasterizer::draw(const DrawDesc& desc, DepthTarget& depth, VS&& vs, FS
 }
 
 template <class FS>
-void Rasterizer::shadeTile(void* user, const detail::TileScratch& s, const Rasterizer& self) {
+void Rasterizer::shadeTile(void* user, uint32_t tile, const TileWork& work, const Rasterizer& self) {
   FS& fs = *static_cast<FS*>(user);
-  const int nv = self.nv_;
-  float vary[kMaxVaryings + 3];
-  for (const BlockHit& h : s.hits) {
-    const SetupTri& t = *s.tris[h.tri];
-    const detail::Chunk& ch = self.chunks_[s.chunkOf[h.tri]];
-    // Attributes are stored one to one with the chunk's triangles.
-    const SetupAttr& a = ch.attrs[static_cast<size_t>(&t - ch.tris.data())];
-    // Clipped triangles carry, after their varyings, the barycentrics of the submitted triangle.
-    const size_t stride = static_cast<size_t>(nv) + (a.clipped ? 3 : 0);
-    const float* v[3];
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t ref = a.vary[k];
-      v[k] = (ref & kChunkLocalVarying) ? ch.clipVary.data() + static_cast<size_t>(ref & ~kChunkLocalVarying) * stride
-                                        : self.vary_.data() + static_cast<size_t>(ref) * stride;
-    }
-    const int nInterp = static_cast<int>(stride);
-    Fragment f;
-    f.primitive = t.primitive;
-    f.frontFacing = a.frontFacing;
-    f.varyings = vary;
-    uint64_t m = h.mask;
-    while (m) {
-      const int bit = std::countr_zero(m);
-      m &= m - 1;
-      f.x = h.bx * kBlockSize + (bit & (kBlockSize - 1));
-      f.y = h.by * kBlockSize + (bit >> kBlockLog2);
-      float bc[3];
-      orderedBarycentrics(t, a, f.x, f.y, bc);
-      const float b0 = bc[0], b1 = bc[1], b2 = bc[2];
-      for (int c = 0; c < nInterp; ++c) vary[c] = v[0][c] * b0 + v[1][c] * b1 + v[2][c] * b2;
-      f.depth = depthAt(t, f.x, f.y);
-      if (a.clipped) {
-        f.b0 = vary[nv];
-        f.b1 = vary[nv + 1];
-        f.b2 = vary[nv + 2];
-      } else {
-        // The planes are in setup (ordered) vertex order; a.order maps back to submission order.
-        float sb[3];
-        sb[a.order[0]] = b0;
-        sb[a.order[1]] = b1;
-        sb[a.order[2]] = b2;
-        f.b0 = sb[0];
-        f.b1 = sb[1];
-        f.b2 = sb[2];
-      }
-      fs(f);
-    }
-  }
+  shadeTileFragments(fs, tile, work, std::span<const AssembledChunk>(self.chunks_.data(), self.chunkCount_),
+                     self.vary_.data(), self.nv_);
 }
 
 }  // namespace penumbra::raster

@@ -116,6 +116,28 @@ inline int64_t edgeAt(const SetupTri& t, const EdgeCoefficients& e, int k, int64
   return int64_t{e.a[k]} * (i * kSubpixelOne - t.vx[k]) + int64_t{e.b[k]} * (j * kSubpixelOne - t.vy[k]) - e.bias[k];
 }
 
+// The tile stage's decision for the snapped triangle (v0, v1, v2), as submitted, at pixel centre
+// (px, py), without setting it up: the orientation and facing of setupTriangle, then the three
+// edge functions with the top-left bias of edgeCoefficients. Cheaper than setupTriangle when most
+// answers are "outside" (the stochastic rasterizer's per-sample test).
+inline bool coversPixel(const ScreenVert& v0, const ScreenVert& v1, const ScreenVert& v2, CullMode cull, int px,
+                        int py) {
+  const int64_t area = (int64_t{v1.x} - v0.x) * (int64_t{v2.y} - v0.y) - (int64_t{v1.y} - v0.y) * (int64_t{v2.x} - v0.x);
+  if (area == 0) return false;
+  const bool front = area < 0;
+  if ((cull == CullMode::Back && !front) || (cull == CullMode::Front && front)) return false;
+  const ScreenVert* p[3] = {&v0, front ? &v2 : &v1, front ? &v1 : &v2};
+  const int64_t sx = int64_t{px} * kSubpixelOne, sy = int64_t{py} * kSubpixelOne;
+  for (int k = 0; k < 3; ++k) {
+    const ScreenVert& a = *p[k];
+    const ScreenVert& b = *p[k == 2 ? 0 : k + 1];
+    const int64_t dx = int64_t{b.x} - a.x, dy = int64_t{b.y} - a.y;
+    const int64_t bias = (dy < 0 || (dy == 0 && dx > 0)) ? 0 : 1;
+    if (-dy * (sx - a.x) + dx * (sy - a.y) - bias < 0) return false;
+  }
+  return true;
+}
+
 // Perspective-correct barycentrics of the ordered vertices at pixel (i, j), exactly as the fragment
 // stage computes them (Rasterizer::shadeTile and stochastic::sampleFragment share this).
 inline void orderedBarycentrics(const SetupTri& t, const SetupAttr& a, int i, int j, float b[3]) {

@@ -195,16 +195,14 @@ LightPoints generateLightPoints(raster::Rasterizer& raster, const Geometry& cast
       }
     return out;
   }
-  // Every layer: per-tile lists (each tile is one task), joined in tile order.
-  const int tileLog2 = raster.config().tileLog2;
-  const int tilesX = (w + (1 << tileLog2) - 1) >> tileLog2, tilesY = (h + (1 << tileLog2) - 1) >> tileLog2;
-  std::vector<std::vector<glm::vec3>> tilePoints(static_cast<size_t>(tilesX) * static_cast<size_t>(tilesY));
+  // Every layer: per-tile lists (each tile is one task, the fragment says which), joined in tile
+  // order.
+  const raster::TileGrid grid = raster.tileGrid(w, h);
+  std::vector<std::vector<glm::vec3>> tilePoints(grid.count());
   std::vector<std::vector<uint32_t>> tilePayload(tilePoints.size());
   out.pass = drawSource(raster, casters, source, true, cull, [&](const raster::Fragment& f) {
-    const size_t t =
-        static_cast<size_t>(f.y >> tileLog2) * static_cast<size_t>(tilesX) + static_cast<size_t>(f.x >> tileLog2);
-    tilePoints[t].emplace_back(f.varyings[0], f.varyings[1], f.varyings[2]);
-    tilePayload[t].push_back(static_cast<uint32_t>(f.y) * static_cast<uint32_t>(w) + static_cast<uint32_t>(f.x));
+    tilePoints[f.tile].emplace_back(f.varyings[0], f.varyings[1], f.varyings[2]);
+    tilePayload[f.tile].push_back(static_cast<uint32_t>(f.y) * static_cast<uint32_t>(w) + static_cast<uint32_t>(f.x));
   });
   size_t total = 0;
   for (const auto& t : tilePoints) total += t.size();

@@ -22,6 +22,7 @@
 
 #include <glm/vec4.hpp>
 
+#include "raster/bin.h"
 #include "stochastic/coverage.h"
 
 namespace penumbra::stochastic {
@@ -33,14 +34,9 @@ struct Domain {
   float v0 = -1.0f, v1 = 1.0f;
 };
 
-// Inclusive pixel rectangle; empty when x0 > x1 or y0 > y1.
-struct PixelRect {
-  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
-  bool empty() const { return x0 > x1 || y0 > y1; }
-};
-inline PixelRect intersect(const PixelRect& a, const PixelRect& b) {
-  return {a.x0 > b.x0 ? a.x0 : b.x0, a.y0 > b.y0 ? a.y0 : b.y0, a.x1 < b.x1 ? a.x1 : b.x1, a.y1 < b.y1 ? a.y1 : b.y1};
-}
+// Inclusive pixel rectangles: raster's (raster/bin.h), which the binning of tiles takes.
+using raster::PixelRect;
+using raster::intersect;
 
 // The triangle (clip positions c0 at shutter open, c1 at close) over the domain: the pixels whose
 // centres it may cover, clamped to the viewport. motion = false ignores t (c0 is used).

@@ -26,27 +26,6 @@ SampleTarget makeSampleTarget(int width, int height, raster::CullMode cull) {
 
 namespace {
 
-// The tile stage's decision for the snapped triangle (v0, v1, v2) at pixel centre (px, py): the
-// orientation and facing of setupTriangle, then the three edge functions with the top-left bias.
-bool insideSnapped(const ScreenVert& v0, const ScreenVert& v1, const ScreenVert& v2, raster::CullMode cull, int px,
-                   int py) {
-  const int64_t area =
-      (int64_t{v1.x} - v0.x) * (int64_t{v2.y} - v0.y) - (int64_t{v1.y} - v0.y) * (int64_t{v2.x} - v0.x);
-  if (area == 0) return false;
-  const bool front = area < 0;
-  if ((cull == raster::CullMode::Back && !front) || (cull == raster::CullMode::Front && front)) return false;
-  const ScreenVert* p[3] = {&v0, front ? &v2 : &v1, front ? &v1 : &v2};
-  const int64_t sx = int64_t{px} * raster::kSubpixelOne, sy = int64_t{py} * raster::kSubpixelOne;
-  for (int k = 0; k < 3; ++k) {
-    const ScreenVert& a = *p[k];
-    const ScreenVert& b = *p[k == 2 ? 0 : k + 1];
-    const int64_t dx = int64_t{b.x} - a.x, dy = int64_t{b.y} - a.y;
-    const int64_t bias = (dy < 0 || (dy == 0 && dx > 0)) ? 0 : 1;
-    if (-dy * (sx - a.x) + dx * (sy - a.y) - bias < 0) return false;
-  }
-  return true;
-}
-
 // A quick, conservative reject: true only when the sample is certainly outside the triangle that
 // the exact test would snap. The snapped coordinates are approximated in float (1/w once per vertex)
 // with a bound on their distance from the exact ones, the orientation and the three edge functions
@@ -114,16 +93,11 @@ bool evaluate(const glm::vec4 c[3], const float* const vary[3], int nv, const Sa
   if (certainlyOutside(c, tg, px, py)) return false;
   // Flags and snapped x, y first (what coverage needs); z and 1/w only for a covered sample.
   ScreenVert s[3];
-  uint32_t orFlags = 0, andFlags = ~0u;
-  for (int k = 0; k < 3; ++k) {
-    s[k] = raster::projectVertexXY(c[k].x, c[k].y, c[k].z, c[k].w, tg.vp, tg.guard);
-    orFlags |= s[k].flags;
-    andFlags &= s[k].flags;
-  }
-  if (orFlags & raster::kNonFinite) return false;
-  if (andFlags & raster::kFrustumMask) return false;
-  if (!(orFlags & raster::kNeedsClip)) {
-    if (!insideSnapped(s[0], s[1], s[2], tg.cull, px, py)) return false;
+  for (int k = 0; k < 3; ++k) s[k] = raster::projectVertexXY(c[k].x, c[k].y, c[k].z, c[k].w, tg.vp, tg.guard);
+  const raster::Assembly kind = raster::classifyTriangle(s[0].flags, s[1].flags, s[2].flags);
+  if (kind == raster::Assembly::Invalid || kind == raster::Assembly::OutsideFrustum) return false;
+  if (kind == raster::Assembly::Direct) {
+    if (!raster::coversPixel(s[0], s[1], s[2], tg.cull, px, py)) return false;
     for (int k = 0; k < 3; ++k) s[k] = raster::projectVertex(c[k].x, c[k].y, c[k].z, c[k].w, tg.vp, tg.guard);
     raster::SetupTri t;
     raster::SetupAttr a;
@@ -143,32 +117,20 @@ bool evaluate(const glm::vec4 c[3], const float* const vary[3], int nv, const Sa
     }
     return true;
   }
-  // Homogeneous clipping in double, as the pipeline's front end: position, varyings, then the
-  // barycentrics of the submitted triangle; the polygon is drawn as a fan from its first vertex.
+  // Homogeneous clipping, as the pipeline's front end (raster/assemble.h): position, varyings,
+  // then the barycentrics of the submitted triangle; the polygon is drawn as a fan.
   const int stride = nv + 3;
-  double in[3][raster::kClipStride];
-  const double* inPtr[3];
-  for (int k = 0; k < 3; ++k) {
-    in[k][0] = c[k].x, in[k][1] = c[k].y, in[k][2] = c[k].z, in[k][3] = c[k].w;
-    for (int i = 0; i < nv; ++i) in[k][4 + i] = vary[k][i];
-    for (int e = 0; e < 3; ++e) in[k][4 + nv + e] = e == k ? 1.0 : 0.0;
-    inPtr[k] = in[k];
-  }
-  double poly[raster::kMaxClipVerts * raster::kClipStride];
-  const int n = raster::clipTriangle(inPtr, stride, tg.guard, poly);
-  if (n < 3) return false;
-  ScreenVert sv[raster::kMaxClipVerts];
-  for (int i = 0; i < n; ++i) {
-    sv[i] = raster::projectClipped(poly + i * raster::kClipStride, tg.vp);
-    if (sv[i].flags & raster::kOutGuard) return false;
-  }
+  raster::ClipPolygon poly;
+  if (raster::clipTriangleToPolygon(c, vary, nv, tg.guard, tg.vp, poly) != raster::Assembly::Clip) return false;
+  const int n = poly.count;
+  const ScreenVert* sv = poly.screen;
   // The pipeline draws every fan triangle that covers the pixel and keeps the strictly nearest
   // (the first on a tie): fan triangles can overlap by a snapping step when the polygon is nearly
   // flat.
   int best = -1;
   float bestDepth = 0.0f;
   for (int i = 1; i + 1 < n; ++i) {
-    if (!insideSnapped(sv[0], sv[i], sv[i + 1], tg.cull, px, py)) continue;
+    if (!raster::coversPixel(sv[0], sv[i], sv[i + 1], tg.cull, px, py)) continue;
     raster::SetupTri t;
     int order[3];
     if (raster::setupTriangle(sv[0], sv[i], sv[i + 1], tg.cull, tg.vp, t, nullptr, order) != raster::SetupResult::Ok)
@@ -189,7 +151,7 @@ bool evaluate(const glm::vec4 c[3], const float* const vary[3], int nv, const Sa
     float vk[3][raster::kMaxVaryings + 3];
     const float* v[3];
     for (int k = 0; k < 3; ++k) {
-      const double* p = poly + ref[order[k]] * raster::kClipStride;
+      const double* p = poly.vertex(ref[order[k]]);
       for (int ch = 0; ch < stride; ++ch) vk[k][ch] = static_cast<float>(p[4 + ch]);
       v[k] = vk[k];
     }

@@ -12,9 +12,10 @@
 // confusion grows linearly with |w - F| / w on screen. Pinhole: R = 0, nothing moves.
 //
 // Per-sample exactness: sampleCoverage() projects and snaps the three vertices with
-// raster::projectVertex, clips with raster::clipTriangle when a vertex needs it (near/far plane,
-// guard band, behind the eye), and evaluates the same integer edge functions and top-left rule at
-// the pixel centre as the tile stage. The result equals the main pipeline's coverage of the triangle
+// raster::projectVertex, assembles it as the pipeline's front end does (raster/assemble.h: the
+// frustum reject, and homogeneous clipping when a vertex crosses the near/far plane, leaves the
+// guard band or is behind the eye), and evaluates the same integer edge functions and top-left
+// rule at the pixel centre as the tile stage (raster::coversPixel). The result equals the main pipeline's coverage of the triangle
 // clipAt(t, u, v) at that pixel, bit for bit (tests/stochastic/coverage_test.cpp checks it).
 //
 // Pure functions; safe from any thread.
@@ -23,8 +24,8 @@
 #include <cstdint>
 #include <glm/vec4.hpp>
 
-#include "raster/clip.h"
-#include "raster/pipeline.h"
+#include "raster/assemble.h"
+#include "raster/fragment.h"
 #include "raster/setup.h"
 
 namespace penumbra::stochastic {

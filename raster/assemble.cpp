@@ -1,0 +1,122 @@
+#include "raster/assemble.h"
+
+namespace penumbra::raster {
+
+Assembly clipTriangleToPolygon(const glm::vec4 c[3], const float* const vary[3], int nv, const GuardPlanes& guard,
+                               const Viewport& vp, ClipPolygon& poly) {
+  // Vertex layout: position, varyings, then the barycentrics of the submitted triangle (the
+  // fragment stage interpolates them to hand the functor submitted-triangle barycentrics).
+  double in[3][kClipStride];
+  const double* inPtr[3];
+  for (int k = 0; k < 3; ++k) {
+    in[k][0] = c[k].x, in[k][1] = c[k].y, in[k][2] = c[k].z, in[k][3] = c[k].w;
+    for (int i = 0; i < nv; ++i) in[k][4 + i] = vary[k][i];
+    for (int e = 0; e < 3; ++e) in[k][4 + nv + e] = e == k ? 1.0 : 0.0;
+    inPtr[k] = in[k];
+  }
+  poly.count = clipTriangle(inPtr, nv + 3, guard, poly.data);
+  if (poly.count < 3) return Assembly::OutsideFrustum;
+  bool ok = true;
+  for (int i = 0; i < poly.count; ++i) {
+    poly.screen[i] = projectClipped(poly.vertex(i), vp);
+    ok &= (poly.screen[i].flags & kOutGuard) == 0;
+  }
+  return ok ? Assembly::Clip : Assembly::Degenerate;
+}
+
+}  // namespace penumbra::raster
+
+namespace penumbra::raster {
+
+void assembleTriangles(const VertexStageOutput& vs, std::span<const uint32_t> indices, uint32_t vertexCount,
+                       CullMode cull, const Viewport& vp, bool wantAttrs, uint64_t first, uint64_t last,
+                       AssembledChunk& out) {
+  out.tris.clear();
+  out.attrs.clear();
+  out.clipVary.clear();
+  out.stats = PassStats{};
+  PassStats& st = out.stats;
+  st.trianglesIn = last - first;
+  const bool indexed = !indices.empty();
+  const int nv = vs.nv;
+  const GuardPlanes guard = guardPlanes(vp);
+
+  // Setup of one triangle; vref: the varyings of its three vertices (kChunkLocalVarying: made by
+  // the clipper, in out.clipVary).
+  auto emit = [&](const ScreenVert& a, const ScreenVert& b, const ScreenVert& d, uint32_t prim, const uint32_t vref[3],
+                  bool clipped) {
+    SetupTri t;
+    SetupAttr at;
+    int order[3];
+    const SetupResult res = setupTriangle(a, b, d, cull, vp, t, wantAttrs ? &at : nullptr, order);
+    switch (res) {
+      case SetupResult::CulledFacing: ++st.trianglesCulledFacing; return;
+      case SetupResult::Degenerate: ++st.trianglesCulledDegenerate; return;
+      case SetupResult::NoSample: ++st.trianglesCulledNoSample; return;
+      case SetupResult::Ok: break;
+    }
+    t.primitive = prim;
+    if (wantAttrs) {
+      for (int k = 0; k < 3; ++k) {
+        at.vary[k] = vref[order[k]];
+        at.order[k] = static_cast<uint8_t>(order[k]);
+      }
+      at.clipped = clipped;
+      out.attrs.push_back(at);
+    }
+    out.tris.push_back(t);
+  };
+
+  ClipPolygon poly;
+  for (uint64_t tri = first; tri < last; ++tri) {
+    uint32_t idx[3];
+    if (indexed) {
+      for (int k = 0; k < 3; ++k) idx[k] = indices[tri * 3 + static_cast<uint64_t>(k)];
+      if (idx[0] >= vertexCount || idx[1] >= vertexCount || idx[2] >= vertexCount) {
+        ++st.trianglesDroppedInvalid;
+        continue;
+      }
+    } else {
+      for (int k = 0; k < 3; ++k) idx[k] = static_cast<uint32_t>(tri * 3 + static_cast<uint64_t>(k));
+    }
+    const ScreenVert& a = vs.screen[idx[0]];
+    const ScreenVert& b = vs.screen[idx[1]];
+    const ScreenVert& d = vs.screen[idx[2]];
+    const uint32_t prim = static_cast<uint32_t>(tri);
+    switch (classifyTriangle(a.flags, b.flags, d.flags)) {
+      case Assembly::Invalid: ++st.trianglesDroppedInvalid; continue;
+      case Assembly::OutsideFrustum: ++st.trianglesCulledFrustum; continue;
+      case Assembly::Direct: emit(a, b, d, prim, idx, false); continue;
+      default: break;
+    }
+    ++st.trianglesClipped;
+    const glm::vec4 c[3] = {vs.clip[idx[0]], vs.clip[idx[1]], vs.clip[idx[2]]};
+    const float* vary[3];
+    for (int k = 0; k < 3; ++k) vary[k] = vs.varyings + static_cast<size_t>(idx[k]) * static_cast<size_t>(nv);
+    const Assembly res = clipTriangleToPolygon(c, vary, nv, guard, vp, poly);
+    if (res == Assembly::OutsideFrustum) {
+      ++st.trianglesCulledFrustum;  // entirely outside the clip volume
+      continue;
+    }
+    if (res == Assembly::Degenerate) {  // w reached 0: the polygon degenerates to the eye point
+      ++st.trianglesCulledDegenerate;
+      continue;
+    }
+    // Chunk-local varyings of the polygon's vertices.
+    const int stride = nv + 3;
+    const uint32_t base = static_cast<uint32_t>(out.clipVary.size() / static_cast<size_t>(stride));
+    if (wantAttrs)
+      for (int i = 0; i < poly.count; ++i)
+        for (int c2 = 4; c2 < 4 + stride; ++c2) out.clipVary.push_back(static_cast<float>(poly.vertex(i)[c2]));
+    for (int i = 1; i + 1 < poly.count; ++i) {
+      const uint32_t ref[3] = {(base + 0) | kChunkLocalVarying, (base + static_cast<uint32_t>(i)) | kChunkLocalVarying,
+                               (base + static_cast<uint32_t>(i) + 1) | kChunkLocalVarying};
+      const size_t before = out.tris.size();
+      emit(poly.screen[0], poly.screen[i], poly.screen[i + 1], prim, ref, true);
+      st.trianglesFromClipping += out.tris.size() - before;
+    }
+  }
+  st.trianglesBinned = out.tris.size();
+}
+
+}  // namespace penumbra::raster
