@@ -1,20 +1,22 @@
 // The stochastic rasterizer: time-continuous triangles seen through a thin lens, S samples per
 // pixel, an exact test per sample (coverage.h), a per-sample depth test, and a resolve of each
-// pixel's samples into at most kMaxLayers surfaces with their sample counts (a box filter).
+// pixel's samples into at most kMaxLayers surfaces with their sample counts (resolve.h).
 //
-// Stages, like the main pipeline's (DESIGN.md "Stochastic rasterization"):
-//   setup    per triangle, in parallel: the bound of the chosen method (bounds.h) and, for the
-//            interval method, one rectangle per stratum.
-//   bin      triangles to 64x64 tiles by their footprint, in submission order.
+// Stages, like the main pipeline's (DESIGN.md "Stochastic rasterization"), one file each:
+//   setup    per triangle, in parallel: validity and the bound of the chosen method (setup.h,
+//            bounds.h); for the interval method one rectangle per stratum.
+//   bin      triangles to the tiles of raster's TileGrid by their footprint, in submission order
+//            (raster/bin.h, the pipeline's own binning).
 //   tile     one TBB task per tile: the tile's samples (sample_pattern.h) in a tile-local buffer
 //            (depth, what covers it), initialised from the static layer; each triangle tests the
-//            samples its bound admits, in submission order; then the resolve.
+//            samples its bound admits, in submission order (sample_tests.h: one loop per method);
+//   resolve  each pixel's samples grouped by surface (resolve.h); statistics in stats.h.
 // Bounding methods (BoundMethod): Box, the footprint over the whole shutter and lens; Interval,
 // the shutter cut into T strata and the lens square into L x L cells, each with its own footprint,
 // tested only against the samples inside it; DualSpace, per block of dualBlock x dualBlock pixels
 // (default 4) the times and lens positions at which the triangle may overlap the block (Laine et
-// al. 2011). All three give the
-// same bits; only the number of tests differs (sample test efficiency, STE = hits / tests).
+// al. 2011). All three give the same bits; only the number of tests differs (sample test
+// efficiency, STE = hits / tests).
 // A static triangle seen through a pinhole (c0 == c1, no lens) covers all or none of a pixel's
 // samples (they share the pixel centre): one test serves them all (counted as one test).
 //
@@ -36,17 +38,15 @@
 #include "raster/pipeline.h"
 #include "stochastic/bounds.h"
 #include "stochastic/coverage.h"
+#include "stochastic/resolve.h"
 #include "stochastic/sample_pattern.h"
+#include "stochastic/stats.h"
 
 namespace penumbra::stochastic {
 
 enum class BoundMethod : uint8_t { Box, Interval, DualSpace };
 const char* boundMethodName(BoundMethod m);
 bool parseBoundMethod(const std::string& name, BoundMethod& m);  // "box", "interval", "dual"
-
-inline constexpr int kMaxLayers = 3;
-inline constexpr uint32_t kStaticSurface = 0xFFFFFFFEu;  // the static layer's texel of the pixel
-inline constexpr uint32_t kNoTriangle = 0xFFFFFFFFu;
 
 struct StochasticInput {
   std::span<const glm::vec4> clip0, clip1;  // per vertex: clip position at shutter open and close
@@ -64,48 +64,19 @@ struct StaticLayer {
   const raster::Image<uint8_t>* covered = nullptr;
 };
 
+// Limits of the sample settings below (the engine's option specs quote them, render_options.h).
+inline constexpr int kMaxTimeStrata = 64;  // Strata::tEdge holds 65 boundaries
+inline constexpr int kMaxLensStrata = 8;   // Strata::lEdge holds 9; 8 x 8 x 64 strata fit a uint16_t index
+inline constexpr int kMaxDualBlock = 64;   // the default tile side (blocks are cut at tile borders)
+
 struct StochasticConfig {
   BoundMethod method = BoundMethod::DualSpace;
-  int timeStrata = 0;  // interval method: shutter strata, [1, 64]; 0: 8 (4 with a lens)
-  int lensStrata = 0;  // interval method: lens cells per axis, [1, 8]; 0: 3 (1 without a lens)
+  int timeStrata = 0;  // interval method: shutter strata, [1, kMaxTimeStrata]; 0: 8 (4 with a lens)
+  int lensStrata = 0;  // interval method: lens cells per axis, [1, kMaxLensStrata]; 0: 3 (1 without a lens)
   bool staticShortcut = true;  // one test per pixel for static triangles seen through a pinhole
-  int dualBlock = 4;           // dual space: side of the pixel blocks that get their own bound (power of 2, <= 64)
+  int dualBlock = 4;           // dual space: side of the pixel blocks that get their own bound (power of 2, <= kMaxDualBlock)
   bool exhaustive = false;     // tests: every sample of every pixel for every triangle, no bound at all
   SamplePattern pattern;
-};
-
-struct ResolvedLayer {
-  uint32_t surface = 0;      // StochasticInput::surface of the triangle, or kStaticSurface
-  uint16_t count = 0;        // samples of the pixel on this surface
-  uint16_t sample = 0;       // the representative sample: the median one in time
-  uint32_t triangle = 0;     // the triangle that covers it (kNoTriangle for the static layer)
-  Sample at;                 // its time and lens position
-};
-struct ResolvedPixel {
-  uint16_t background = 0;   // samples that hit nothing
-  uint8_t layers = 0;        // surfaces, largest count first (ties: smaller surface id first)
-  ResolvedLayer layer[kMaxLayers];
-  // A pixel seeing more than kMaxLayers surfaces adds the rest's counts to layer 0 (rare: counted
-  // in StochasticStats::pixelsMerged).
-};
-
-struct StochasticStats {
-  uint64_t triangles = 0, trianglesStatic = 0, trianglesDropped = 0, trianglesNoSample = 0;
-  uint64_t bounds = 0;             // rectangles set up (strata for the interval method)
-  uint64_t blocksCulled = 0;       // dual space: 8x8 blocks whose (t, u, v) bound was empty
-  uint64_t samplesScanned = 0;     // samples whose (t, u, v) was compared with a bound
-  uint64_t tests = 0;              // exact coverage tests
-  uint64_t hits = 0;               // tests that found the sample covered
-  uint64_t staticShared = 0;       // samples decided by a test shared with the pixel's others
-  uint64_t depthPassed = 0;
-  uint64_t pixelsMerged = 0;
-  int spp = 0;
-  uint64_t samples = 0;            // width * height * spp
-  // Per triangle (those tested at least once): STE quantiles, nearest rank.
-  double steTriangleP10 = 0, steTriangleMedian = 0, steTriangleP90 = 0;
-  double msSetup = 0, msRaster = 0, msTotal = 0;
-  double ste() const { return tests ? static_cast<double>(hits) / static_cast<double>(tests) : 0.0; }
-  std::string report(const std::string& method) const;
 };
 
 // Optional outputs for tests, pictures and reports.
