@@ -20,6 +20,12 @@ std::pair<std::string, engine::Scene> loadSceneArgument(const std::string& name)
   return {isFile ? std::filesystem::path(name).stem().string() : name, std::move(*s)};
 }
 
+engine::ResolvedOptions resolveOrFail(const engine::RenderOptions& options) {
+  engine::Result<engine::ResolvedOptions> r = engine::resolveOptions(options);
+  if (!r) fail(r.error());
+  return std::move(*r);
+}
+
 glm::vec3 parseVec3(const std::string& option, const std::string& text) {
   std::vector<float> v;
   std::stringstream ss(text);

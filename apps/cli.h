@@ -2,6 +2,8 @@
 // helpers, progress lines.
 #pragma once
 
+#include <tbb/global_control.h>
+
 #include <chrono>
 #include <cstdio>
 #include <glm/vec3.hpp>
@@ -10,6 +12,7 @@
 #include <utility>
 
 #include "engine/error.h"
+#include "engine/render_options.h"
 #include "engine/scene.h"
 
 namespace penumbra::apps {
@@ -23,6 +26,26 @@ struct UsageError {
 };
 [[noreturn]] inline void fail(const std::string& where, const std::string& what) { throw UsageError{{where, what}}; }
 [[noreturn]] inline void fail(const engine::Error& e) { throw UsageError{e}; }
+
+// The engine's verdict on an option value, as a UsageError.
+inline void require(const engine::Status& st) {
+  if (!st) fail(st.error());
+}
+inline void require(const engine::OptionSpec& spec, double value) { require(spec.check(value)); }
+// The options resolved by the engine, or a UsageError naming the bad one.
+engine::ResolvedOptions resolveOrFail(const engine::RenderOptions& options);
+
+// Lets TBB run up to `threads` workers (more than the cores, if asked) while it lives; 0 changes
+// nothing. One per subcommand run, on its stack.
+class ThreadLimit {
+ public:
+  explicit ThreadLimit(int threads) {
+    if (threads > 0) control_.emplace(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+  }
+
+ private:
+  std::optional<tbb::global_control> control_;
+};
 
 // "X,Y,Z" -> vector; anything else is a UsageError naming the option.
 glm::vec3 parseVec3(const std::string& option, const std::string& text);

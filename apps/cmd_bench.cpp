@@ -48,7 +48,7 @@ int runBenchRaster(const BenchRasterArgs& a) {
   if (synth.empty() && a.meshes.empty()) synth = {1000000, 4000000};
   int maxThreads = 1;
   for (int t : threads) maxThreads = std::max(maxThreads, t);
-  allowThreads(maxThreads);
+  const ThreadLimit threadLimit(maxThreads);
 
   // Load everything first: bad input fails before any run.
   std::vector<std::pair<std::string, engine::Mesh>> meshes;

@@ -229,7 +229,7 @@ int runBenchPoints(const BenchPointsArgs& a) {
                                       " MiB, more than the limit of " +
                                       std::to_string(kMaxTargetBytes >> 20) + " MiB");
   const int maxThreads = *std::max_element(threads.begin(), threads.end());
-  allowThreads(maxThreads);
+  const ThreadLimit threadLimit(maxThreads);
 
   engine::Result<engine::Scene> scene = engine::makeBuiltinScene("complex");
   if (!scene) fail(scene.error());

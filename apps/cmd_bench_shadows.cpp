@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "apps/cli.h"
+#include "raster/timing.h"
 #include "apps/commands.h"
 #include "engine/bench_report.h"
 #include "engine/builtin_scenes.h"
@@ -18,12 +19,6 @@
 namespace penumbra::apps {
 
 namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
-}
 
 // Receivers the light can reach (valid, in front, part of the light above their horizon): where V
 // is compared.
@@ -52,10 +47,11 @@ struct Timed {
 // rendering is deterministic).
 Timed timedRender(engine::Renderer& renderer, const engine::Scene& scene, const engine::RenderOptions& options,
                   int runs) {
+  const engine::ResolvedOptions resolved = resolveOrFail(options);
   std::vector<double> maps, filter, eval, prep, total;
   Timed t;
   for (int r = 0; r < runs; ++r) {
-    t.frame = renderer.render(scene, options);
+    t.frame = renderer.render(scene, resolved);
     const engine::LightShadowStats& s = t.frame.stats.shadows.at(0);
     maps.push_back(s.times.msMaps);
     filter.push_back(s.times.msFilter);
@@ -63,11 +59,11 @@ Timed timedRender(engine::Renderer& renderer, const engine::Scene& scene, const 
     prep.push_back(s.times.prepare());
     total.push_back(s.times.total());
   }
-  t.msMaps = median(maps);
-  t.msFilter = median(filter);
-  t.msEvaluate = median(eval);
-  t.msPrepare = median(prep);
-  t.msTotal = median(total);
+  t.msMaps = raster::median(maps);
+  t.msFilter = raster::median(filter);
+  t.msEvaluate = raster::median(eval);
+  t.msPrepare = raster::median(prep);
+  t.msTotal = raster::median(total);
   return t;
 }
 
@@ -79,7 +75,7 @@ int runBenchShadows(const BenchShadowsArgs& a) {
     fail("option --width/--height", "must be in [16, 4096]");
   if (a.runs < 1 || a.runs > 100) fail("option --runs", "must be in [1, 100]");
   if (a.gtSamples < 1 || a.gtSamples > 65536) fail("option --gt-samples", "must be in [1, 65536]");
-  if (a.threads < 0 || a.threads > 1024) fail("option --threads", "must be in [0, 1024]");
+  require(engine::kThreadsOption, a.threads);
   std::vector<std::string> sceneNames = a.scenes;
   if (sceneNames.empty()) sceneNames = {"contact", "fusion", "thin", "complex", "biglight"};
   std::vector<std::pair<std::string, engine::Scene>> scenes;
@@ -138,7 +134,7 @@ int runBenchShadows(const BenchShadowsArgs& a) {
   if (ec) fail(a.out, "cannot create the report folder: " + ec.message());
   const std::string cache = a.cache.empty() ? (out / "gt-cache").string() : a.cache;
 
-  allowThreads(a.threads);
+  const ThreadLimit threadLimit(a.threads);
   engine::Renderer renderer(a.threads);
   Progress progress("bench shadows");
   const int steps = static_cast<int>(scenes.size() * (runs.size() + 2));
@@ -155,8 +151,8 @@ int runBenchShadows(const BenchShadowsArgs& a) {
     progress.step(++step, steps, name + ": ground truth, " + std::to_string(a.gtSamples) + " rays per pixel");
     engine::RenderOptions refOpt = base;
     refOpt.shadow = "reference";
-    refOpt.shadowParams = "samples=" + std::to_string(a.gtSamples);
-    const engine::Frame ref = renderer.render(scene, refOpt);
+    refOpt.shadowParams = {"samples=" + std::to_string(a.gtSamples)};
+    const engine::Frame ref = renderer.render(scene, resolveOrFail(refOpt));
     const raster::Image<uint8_t> mask = comparisonMask(ref, scene.areaLights[0]);
     engine::ShadowBenchScene rs;
     rs.name = name;
@@ -178,7 +174,7 @@ int runBenchShadows(const BenchShadowsArgs& a) {
       progress.step(++step, steps, name + ": " + info->name + (params.empty() ? "" : " " + params));
       engine::RenderOptions opt = base;
       opt.shadow = info->name;
-      opt.shadowParams = params;
+      opt.shadowParams = {params};
       const Timed t = timedRender(renderer, scene, opt, a.runs);
       const engine::VisibilityError e = engine::compareVisibility(t.frame.visibility.at(0), ref.visibility.at(0), mask);
       engine::ShadowBenchRow row;
@@ -228,7 +224,7 @@ int runBenchShadows(const BenchShadowsArgs& a) {
         if (runs[i].first->name == "mvr" && runs[i].second == "views=24") pick = i;
       engine::RenderOptions on = base, off = base;
       on.shadow = off.shadow = runs[pick].first->name;
-      on.shadowParams = off.shadowParams = runs[pick].second;
+      on.shadowParams = off.shadowParams = {runs[pick].second};
       off.shadowCulling = false;
       const Timed tOn = timedRender(renderer, scene, on, a.runs), tOff = timedRender(renderer, scene, off, a.runs);
       const engine::LightShadowStats& s = tOn.frame.stats.shadows.at(0);

@@ -13,6 +13,7 @@
 
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "raster/timing.h"
 #include "engine/builtin_scenes.h"
 #include "engine/image_io.h"
 #include "engine/metrics.h"
@@ -53,11 +54,6 @@ Json rowJson(const Row& r) {
   j["ste_triangle_p90"] = r.steP90;
   j["static_path"] = r.staticPath;
   return j;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
 }
 
 raster::ImageRgba8 srgb(const raster::ImageFloat4& linear) {
@@ -172,17 +168,20 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
     fail("option --width/--height", "must be in [16, 4096]");
   if (a.runs < 1 || a.runs > 100) fail("option --runs", "must be in [1, 100]");
   if (a.refFrames < 1 || a.refFrames > 65536) fail("option --ref-frames", "must be in [1, 65536]");
-  if (a.threads < 0 || a.threads > 1024) fail("option --threads", "must be in [0, 1024]");
+  require(engine::kThreadsOption, a.threads);
   std::vector<int> spps = a.spp.empty() ? std::vector<int>{4, 16, 64} : a.spp;
-  for (int s : spps)
-    if (s < 1 || s > stochastic::kMaxSpp) fail("option --spp", "each must be in [1, 64]");
+  for (int s : spps) require(engine::kSppOption, s);
   std::vector<stochastic::BoundMethod> methods;
   for (const std::string& m : a.methods.empty() ? std::vector<std::string>{"box", "interval", "dual"} : a.methods) {
     stochastic::BoundMethod b;
     if (!stochastic::parseBoundMethod(m, b)) fail("option --method", "'" + m + "' is not box, interval or dual");
     methods.push_back(b);
   }
-  const std::string shadowParams = checkShadowOptions(a.shadow, {});
+  engine::RenderOptions base;
+  base.width = a.width;
+  base.height = a.height;
+  base.shadow = a.shadow;
+  resolveOrFail(base);
   std::vector<std::pair<std::string, engine::Scene>> scenes;
   for (const std::string& name : a.scenes.empty() ? std::vector<std::string>{"motion", "defocus", "motion-defocus"} : a.scenes)
     scenes.push_back(loadSceneArgument(name));
@@ -191,7 +190,7 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
   std::filesystem::create_directories(out, ec);
   if (ec) fail(a.out, "cannot create the report folder: " + ec.message());
 
-  allowThreads(a.threads);
+  const ThreadLimit threadLimit(a.threads);
   engine::Renderer renderer(a.threads);
   std::vector<Row> rows;
   Json scenesJson = Json::array();
@@ -200,14 +199,11 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
                      "img{margin:2px}</style>\n<h1>Stochastic rasterization: run time against error</h1>\n";
   char buf[512];
   for (auto& [name, scene] : scenes) {
-    engine::RenderOptions base;
-    base.width = a.width;
-    base.height = a.height;
-    base.shadow = a.shadow;
-    base.shadowParams = shadowParams;
     std::fprintf(stderr, "bench stochastic: %s: accumulation reference (%d frames)\n", name.c_str(), a.refFrames);
     const auto t0 = std::chrono::steady_clock::now();
-    const raster::ImageFloat4 ref = engine::accumulationReference(renderer, scene, base, a.refFrames);
+    engine::Result<raster::ImageFloat4> refFrame = engine::accumulationReference(renderer, scene, base, a.refFrames);
+    if (!refFrame) fail(refFrame.error());
+    const raster::ImageFloat4& ref = *refFrame;
     const double refMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     const std::string refName = name + "-reference.png";
     if (engine::Status st = engine::writeImage((out / refName).string(), srgb(ref)); !st) fail(st.error());
@@ -227,8 +223,9 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
       o.debug.testsPerPixel = &testsPerPixel;
       std::vector<double> ms, msFrame;
       engine::Frame f;
+      const engine::ResolvedOptions resolved = resolveOrFail(o);
       for (int r = 0; r < a.runs; ++r) {
-        f = renderer.render(scene, o);
+        f = renderer.render(scene, resolved);
         ms.push_back(f.stats.msStochastic);
         msFrame.push_back(f.stats.msTotal);
       }
@@ -238,8 +235,8 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
       row.method = stochastic::boundMethodName(m);
       row.spp = spp;
       row.staticPath = staticPath;
-      row.ms = median(ms);
-      row.msFrame = median(msFrame);
+      row.ms = raster::median(ms);
+      row.msFrame = raster::median(msFrame);
       const stochastic::StochasticStats& s = f.stats.stoch;
       row.tests = s.tests, row.hits = s.hits, row.scanned = s.samplesScanned, row.ste = s.ste();
       row.steP10 = s.steTriangleP10, row.steMedian = s.steTriangleMedian, row.steP90 = s.steTriangleP90;

@@ -167,7 +167,7 @@ void heatPictures(const std::filesystem::path& dir, int spp) {
     o.width = 480, o.height = 270, o.spp = spp, o.bounds = m, o.shadow = "none";
     std::vector<uint32_t> tests;
     o.debug.testsPerPixel = &tests;
-    const engine::Frame f = renderer.render(*scene, o);
+    const engine::Frame f = renderer.render(*scene, resolveOrFail(o));
     raster::ImageRgba8 img(o.width, o.height);
     for (int y = 0; y < o.height; ++y)
       for (int x = 0; x < o.width; ++x) {

@@ -97,8 +97,8 @@ int renderPoints(const RenderArgs& a, const engine::Scene& scene, std::optional<
   engine::Camera cam = engine::chooseCamera(viewScene, options, &cameraSource);
   if (eye) cam.eye = *eye;
   if (target) cam.target = *target;
-  if (a.fov != 0.0) cam.fovYDegrees = static_cast<float>(a.fov);
-  if (eye || target || a.fov != 0.0) cameraSource = "options";
+  if (a.fov) cam.fovYDegrees = static_cast<float>(*a.fov);
+  if (eye || target || a.fov) cameraSource = "options";
   if (cam.eye == cam.target) fail("option --eye", "camera eye and target coincide");
   const glm::mat4 viewProj = engine::viewProjection(cam, viewScene, static_cast<double>(a.width) / a.height);
   if (a.pointsFile.empty()) {

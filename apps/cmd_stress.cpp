@@ -9,8 +9,8 @@
 namespace penumbra::apps {
 
 int runStress(const StressArgs& a) {
-  if (a.threads < 0 || a.threads > 1024) fail("option --threads", "must be in [0, 1024]");
-  allowThreads(a.threads);
+  require(engine::kThreadsOption, a.threads);
+  const ThreadLimit threadLimit(a.threads);
   raster::Rasterizer rast({.threads = a.threads});
   Progress progress("stress " + a.suite);
   if (a.suite == "stochastic") {

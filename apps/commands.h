@@ -13,12 +13,15 @@ struct Scene;
 
 namespace penumbra::apps {
 
+// Values as the user gave them: the engine checks them (engine/render_options.h), the command line
+// only parses text into numbers. An option not given is empty, never a sentinel value.
 struct RenderArgs {
-  std::string scene, builtin, output, exr;
+  std::string scene, builtin, exr;
+  std::optional<std::string> output;  // none: <scene name>.png
   bool listBuiltins = false, stats = false;
   int width = 1280, height = 720, threads = 0;
   std::string eye, target;
-  double fov = 0.0;  // 0: the scene's
+  std::optional<double> fov;  // none: the scene's
   std::string shadow = "pcss";        // technique of the shadows/ registry, "reference" or "none"
   std::vector<std::string> params;    // name=value for the technique
   std::string cache;                  // cache folder for the ground truth ("" = none)
@@ -33,7 +36,7 @@ struct RenderArgs {
   int64_t frame = 0;                  // seeds the sample pattern, [0, 2^32)
   int dualBlock = 4;                  // dual-space block side, power of 2 in [1, 64]
   bool noStaticPath = false;          // static instances through the stochastic pass too
-  double aperture = -1.0, focus = -1.0;  // override the camera's lens (< 0: the scene's)
+  std::optional<double> aperture, focus;  // override the camera's lens (none: the scene's)
 };
 int runRender(const RenderArgs& args);
 // render --points: checks the point options (and that none is given without --points), then, once
@@ -98,13 +101,7 @@ struct StressArgs {
 };
 int runStress(const StressArgs& args);
 
-// Checks a technique name and its name=value parameters (UsageError naming the option), returns
-// the comma-joined parameter list for engine::RenderOptions::shadowParams.
-std::string checkShadowOptions(const std::string& shadow, const std::vector<std::string>& params);
 // Prints the registry: techniques, their parameters, defaults and ranges.
 void listShadowTechniques();
-
-// Sets the TBB worker limit for the whole process (so that --threads N may exceed the cores).
-void allowThreads(int threads);
 
 }  // namespace penumbra::apps

@@ -7,8 +7,6 @@
 //   stress  raster: sweep the numerically hard cases and report what broke
 // Bad input (files, options, values) ends with one line on stderr and exit status 2, before any
 // output file is written.
-#include <tbb/global_control.h>
-
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +15,7 @@
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "engine/builtin_scenes.h"
+#include "engine/render_options.h"
 
 using namespace penumbra;
 using namespace penumbra::apps;
@@ -33,12 +32,12 @@ int main(int argc, char** argv) {
   r->add_flag("--list-builtins", render.listBuiltins, "List the built-in scenes and exit");
   r->add_option("-o,--output", render.output, "Output PNG path (default: <scene name>.png)");
   r->add_option("--exr", render.exr, "Also write the linear image as OpenEXR to this path");
-  r->add_option("--width", render.width, "Image width in pixels [1, 16384]");
-  r->add_option("--height", render.height, "Image height in pixels [1, 16384]");
-  r->add_option("--threads", render.threads, "Worker threads (0 = all cores)");
+  r->add_option("--width", render.width, "Image width in pixels " + engine::kWidthOption.range());
+  r->add_option("--height", render.height, "Image height in pixels " + engine::kHeightOption.range());
+  r->add_option("--threads", render.threads, "Worker threads " + engine::kThreadsOption.range() + " (0 = all cores)");
   r->add_option("--eye", render.eye, "Camera position X,Y,Z");
   r->add_option("--target", render.target, "Camera target X,Y,Z");
-  r->add_option("--fov", render.fov, "Vertical field of view in degrees (0, 180)");
+  r->add_option("--fov", render.fov, "Vertical field of view in degrees " + engine::kFovOption.range());
   r->add_flag("--stats", render.stats, "Print the frame plan: what each pass did and skipped");
   r->add_option("--shadow", render.shadow,
                 "Soft-shadow technique for the area lights (default pcss; 'reference' = ray-traced ground truth; "
@@ -54,15 +53,20 @@ int main(int argc, char** argv) {
                 "Text file of points, one 'x y z' or 'x y z r g b' (0..255) per line; camera fitted to them "
                 "unless a scene is named");
 
-  r->add_option("--spp", render.spp, "Samples per pixel of the stochastic pass (motion blur, depth of field) [1, 64]");
+  r->add_option("--spp", render.spp,
+                "Samples per pixel of the stochastic pass (motion blur, depth of field) " + engine::kSppOption.range());
   r->add_option("--bounds", render.bounds, "Stochastic bounding method: box, interval or dual (default dual)");
-  r->add_option("--strata", render.strata, "Interval bounds: time strata T [1, 64] or T,L with L lens cells per axis [1, 8]");
-  r->add_option("--dual-block", render.dualBlock, "Dual-space bounds: pixel block side, a power of 2 in [1, 64] (default 4)");
-  r->add_option("--frame", render.frame, "Frame number seeding the sample pattern [0, 2^32)");
+  r->add_option("--strata", render.strata,
+                "Interval bounds: time strata T " + engine::kTimeStrataOption.range() + " or T,L with L lens cells per axis " +
+                    engine::kLensStrataOption.range());
+  r->add_option("--dual-block", render.dualBlock,
+                "Dual-space bounds: pixel block side, " + engine::kDualBlockOption.range() + " (default 4)");
+  r->add_option("--frame", render.frame, "Frame number seeding the sample pattern " + engine::kFrameOption.range());
   r->add_flag("--no-static-path", render.noStaticPath,
               "Send static instances through the stochastic pass too (to measure what the ordinary path saves)");
-  r->add_option("--aperture", render.aperture, "Lens aperture radius in world units (0 = pinhole; default: the scene's)");
-  r->add_option("--focus", render.focus, "Focus distance in world units (> 0; default: the scene's)");
+  r->add_option("--aperture", render.aperture,
+                "Lens aperture radius in world units " + engine::kApertureOption.range() + " (0 = pinhole; default: the scene's)");
+  r->add_option("--focus", render.focus, "Focus distance in world units " + engine::kFocusOption.range() + " (default: the scene's)");
 
   BenchRasterArgs bench;
   CLI::App* b = app.add_subcommand("bench", "Benchmarks");
@@ -85,7 +89,7 @@ int main(int argc, char** argv) {
   bs->add_option("--height", benchShadows.height, "Image height [16, 4096] (default 270)");
   bs->add_option("--runs", benchShadows.runs, "Timed runs per setting; medians are reported (default 3)");
   bs->add_option("--gt-samples", benchShadows.gtSamples, "Ground-truth rays per receiver (default 1024)");
-  bs->add_option("--threads", benchShadows.threads, "Worker threads (0 = all cores)");
+  bs->add_option("--threads", benchShadows.threads, "Worker threads " + engine::kThreadsOption.range() + " (0 = all cores)");
   bs->add_option("--out", benchShadows.out, "Report folder (default out/bench-shadows)");
   bs->add_option("--cache", benchShadows.cache, "Ground-truth cache folder (default <out>/gt-cache)");
   bs->add_flag("--json", benchShadows.json, "One JSON object per (scene, technique, setting) on stdout");
@@ -95,13 +99,14 @@ int main(int argc, char** argv) {
       "stochastic", "Motion blur and depth of field: bounding methods' tests, STE and time against error vs accumulation");
   bst->add_option("--scene", benchStoch.scenes, "Built-in scene or scene file (repeatable; default motion, defocus, motion-defocus)");
   bst->add_option("--method", benchStoch.methods, "Bounding method box, interval or dual (repeatable; default all)");
-  bst->add_option("--spp", benchStoch.spp, "Samples per pixel to run (default 4,16,64)")->delimiter(',');
+  bst->add_option("--spp", benchStoch.spp, "Samples per pixel to run, each " + engine::kSppOption.range() + " (default 4,16,64)")
+      ->delimiter(',');
   bst->add_option("--width", benchStoch.width, "Image width [16, 4096] (default 480)");
   bst->add_option("--height", benchStoch.height, "Image height [16, 4096] (default 270)");
   bst->add_option("--runs", benchStoch.runs, "Timed runs per setting; medians are reported (default 3)");
   bst->add_option("--ref-frames", benchStoch.refFrames, "Pinhole frames in the accumulation reference (default 512)");
   bst->add_option("--shadow", benchStoch.shadow, "Shadow technique of every frame (default none)");
-  bst->add_option("--threads", benchStoch.threads, "Worker threads (0 = all cores)");
+  bst->add_option("--threads", benchStoch.threads, "Worker threads " + engine::kThreadsOption.range() + " (0 = all cores)");
   bst->add_option("--out", benchStoch.out, "Report folder (default out/bench-stochastic)");
   bst->add_flag("--json", benchStoch.json, "One JSON object per run on stdout");
 
@@ -127,7 +132,7 @@ int main(int argc, char** argv) {
   CLI::App* s = app.add_subcommand("stress", "Sweep numerically hard cases; exit 1 if anything broke");
   s->add_option("--suite", stress.suite, "Suite to run: raster (default), shadows or stochastic")
       ->check(CLI::IsMember({"raster", "shadows", "stochastic"}));
-  s->add_option("--threads", stress.threads, "Worker threads (0 = all cores)");
+  s->add_option("--threads", stress.threads, "Worker threads " + engine::kThreadsOption.range() + " (0 = all cores)");
   s->add_flag("--json", stress.json, "One JSON object per case on stdout");
 
   if (argc > 1 && argv[1][0] != '-') {

@@ -18,26 +18,6 @@ uint64_t sampleHash(uint64_t a, uint64_t b, uint64_t c) {
 
 namespace {
 
-// Shirley-Chiu concentric map from [0, 1)^2 to the unit disk (area preserving, low distortion).
-void concentric(float a, float b, float& u, float& v) {
-  const float x = 2.0f * a - 1.0f, y = 2.0f * b - 1.0f;
-  if (x == 0.0f && y == 0.0f) {
-    u = v = 0.0f;
-    return;
-  }
-  constexpr float kQuarter = std::numbers::pi_v<float> / 4.0f;
-  float r, phi;
-  if (std::abs(x) > std::abs(y)) {
-    r = x;
-    phi = kQuarter * (y / x);
-  } else {
-    r = y;
-    phi = 2.0f * kQuarter - kQuarter * (x / y);
-  }
-  u = r * std::cos(phi);
-  v = r * std::sin(phi);
-}
-
 float fract(float x) { return x - std::floor(x); }
 
 }  // namespace
@@ -76,7 +56,7 @@ void pixelSamples(const SamplePattern& p, int x, int y, Sample* out) {
     }
     if (p.lens) {
       const float i = static_cast<float>(perm[k]) + 0.5f;
-      concentric(fract(i * a1 + su), fract(i * a2 + sv), o.u, o.v);
+      concentricDisk(fract(i * a1 + su), fract(i * a2 + sv), o.u, o.v);
     } else {
       o.u = o.v = 0.0f;
     }

@@ -18,7 +18,9 @@
 // Pure functions; safe from any thread.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <optional>
 
 namespace penumbra::stochastic {
@@ -42,6 +44,28 @@ struct SamplePattern {
 
 // The S samples of pixel (x, y), sorted by time, into out[0 .. spp).
 void pixelSamples(const SamplePattern& p, int x, int y, Sample* out);
+
+// Shirley and Chiu's concentric map from [0, 1)^2 to the unit disk (area preserving, low
+// distortion), in float (the sample pattern) or double (the accumulation reference).
+template <class T>
+void concentricDisk(T a, T b, T& u, T& v) {
+  const T x = T(2) * a - T(1), y = T(2) * b - T(1);
+  if (x == T(0) && y == T(0)) {
+    u = v = T(0);
+    return;
+  }
+  constexpr T kQuarter = std::numbers::pi_v<T> / T(4);
+  T r, phi;
+  if (std::abs(x) > std::abs(y)) {
+    r = x;
+    phi = kQuarter * (y / x);
+  } else {
+    r = y;
+    phi = T(2) * kQuarter - kQuarter * (x / y);
+  }
+  u = r * std::cos(phi);
+  v = r * std::sin(phi);
+}
 
 // Counter-based hash (the murmur3 64-bit finalizer over a mixed key) and a float in [0, 1).
 uint64_t sampleHash(uint64_t a, uint64_t b, uint64_t c);

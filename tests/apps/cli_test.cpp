@@ -167,6 +167,10 @@ TEST_F(Cli, BadOptions) {
   expectBadInput("render --builtin nosuchscene -o " + o, "nosuchscene", o);
   expectBadInput("render --eye 1,2 -o " + o, "--eye", o);
   expectBadInput("render --fov 200 -o " + o, "--fov", o);
+  expectBadInput("render --fov 0 -o " + o, "--fov", o);
+  // An empty output name is an error, not the default name (run in the test's folder).
+  expectBadInput("render --width 8 --height 8 -o ''", "--output", "default.png");
+  EXPECT_FALSE(fs::exists("default.png"));
   expectBadInput("render --threads -1 -o " + o, "--threads", o);
   expectBadInput("render -o " + path("o.jpgx"), "o.jpgx", path("o.jpgx"));
   expectBadInput("bench raster --synth 100 --frames 1", "--synth", o);
@@ -360,6 +364,12 @@ TEST_F(Cli, StochasticBadOptions) {
   expectBadInput("render --builtin motion --strata 4,9 -o " + o, "--strata", o);
   expectBadInput("render --builtin motion --dual-block 3 -o " + o, "--dual-block", o);
   expectBadInput("render --builtin motion --aperture -2 -o " + o, "--aperture", o);
+  // No value means "unset": each of these is out of range, not the default.
+  expectBadInput("render --builtin motion --aperture -1 -o " + o, "--aperture", o);
+  expectBadInput("render --builtin motion --focus -1 -o " + o, "--focus", o);
+  expectBadInput("render --builtin motion --focus 0 -o " + o, "--focus", o);
+  expectBadInput("render --builtin motion --strata 4, -o " + o, "--strata", o);
+  expectBadInput("render --builtin motion --strata 4,2x -o " + o, "--strata", o);
   expectBadInput("explain shadows", "shadows", o);
   expectBadInput("bench stochastic --spp 0 --out " + path("b"), "--spp", o);
   expectBadInput("bench stochastic --method sphere --out " + path("b"), "sphere", o);

@@ -1,6 +1,8 @@
 // The renderer: byte-identical frames whatever the thread count, frustum culling that skips work
 // without changing the image, a fitted camera when the scene has none, the built-in scenes.
 #include <gtest/gtest.h>
+
+#include "tests/engine/test_util.h"
 #include <tbb/global_control.h>
 
 #include <glm/ext/matrix_transform.hpp>
@@ -25,14 +27,14 @@ TEST(Renderer, DefaultSceneIsByteIdenticalAcrossThreadCounts) {
   std::vector<uint8_t> first;
   for (int threads : {1, 2, 7}) {
     Renderer r(threads);
-    const Frame f = r.render(*scene, opt);
+    const Frame f = test::renderFrame(r, *scene, opt);
     const auto b = bytes(f.color);
     if (first.empty()) first = b;
     EXPECT_EQ(b, first) << threads << " threads";
   }
   // Something worth looking at: most pixels are not background, several distinct colors.
   Renderer r(2);
-  const Frame f = r.render(*scene, opt);
+  const Frame f = test::renderFrame(r, *scene, opt);
   int covered = 0;
   for (int y = 0; y < f.gbuffer.height(); ++y)
     for (int x = 0; x < f.gbuffer.width(); ++x) covered += f.gbuffer.at(x, y).material >= 0;
@@ -56,10 +58,10 @@ TEST(Renderer, InstancesOutsideTheViewAreCulledWithoutChangingTheImage) {
   opt.width = 64;
   opt.height = 48;
   Renderer r(2);
-  const Frame alone = r.render(s, opt);
+  const Frame alone = test::renderFrame(r, s, opt);
   s.instances.push_back({"behind", 0, glm::translate(glm::mat4(1.0f), {0, 0, 20})});
   s.instances.push_back({"far left", 0, glm::translate(glm::mat4(1.0f), {-50, 0, 0})});
-  const Frame more = r.render(s, opt);
+  const Frame more = test::renderFrame(r, s, opt);
   EXPECT_EQ(more.stats.instancesCulled, 2u);
   EXPECT_EQ(more.stats.trianglesSkippedByCulling, 2 * s.meshes[0].indices.size() / 3);
   EXPECT_EQ(more.stats.gbuffer.trianglesIn, alone.stats.gbuffer.trianglesIn);
@@ -76,7 +78,7 @@ TEST(Renderer, FitsACameraWhenTheSceneHasNone) {
   opt.width = 80;
   opt.height = 60;
   Renderer r(1);
-  const Frame f = r.render(s, opt);
+  const Frame f = test::renderFrame(r, s, opt);
   EXPECT_EQ(f.stats.cameraSource, "fitted to bounds");
   int covered = 0;
   for (int y = 0; y < 60; ++y)

@@ -2,6 +2,8 @@
 // within an error bound of the ground truth (set from measurement, so a regression fails), the
 // skipping of shadow work a scene does not need, and determinism of shadowed frames.
 #include <gtest/gtest.h>
+
+#include "tests/engine/test_util.h"
 #include <tbb/global_control.h>
 
 #include <cstdio>
@@ -54,14 +56,14 @@ TEST(ShadowScenes, EveryTechniqueWithinItsMeasuredErrorOnEveryBenchScene) {
     opt.width = 160;
     opt.height = 90;
     opt.shadow = "reference";
-    opt.shadowParams = "samples=256";
-    const Frame ref = r.render(*scene, opt);
+    opt.shadowParams = {"samples=256"};
+    const Frame ref = test::renderFrame(r, *scene, opt);
     const raster::Image<uint8_t> mask = reachable(ref, scene->areaLights[0]);
     for (const shadows::TechniqueInfo& t : shadows::registry()) {
       if (t.isReference) continue;
       opt.shadow = t.name;
-      opt.shadowParams = "";
-      const Frame f = r.render(*scene, opt);
+      opt.shadowParams.clear();
+      const Frame f = test::renderFrame(r, *scene, opt);
       const VisibilityError e = compareVisibility(f.visibility.at(0), ref.visibility.at(0), mask);
       EXPECT_GT(e.pixels, 1000u) << name;
       const double measured = measuredRmse(name, t.name);
@@ -87,15 +89,15 @@ TEST(ShadowScenes, MvrBeatsPcssWhereItsAssumptionsFail) {
     opt.width = 160;
     opt.height = 90;
     opt.shadow = "reference";
-    opt.shadowParams = "samples=256";
-    const Frame ref = r.render(*scene, opt);
+    opt.shadowParams = {"samples=256"};
+    const Frame ref = test::renderFrame(r, *scene, opt);
     const raster::Image<uint8_t> mask = reachable(ref, scene->areaLights[0]);
-    opt.shadowParams = "";
+    opt.shadowParams.clear();
     opt.shadow = "pcss";
-    const double pcss = compareVisibility(r.render(*scene, opt).visibility.at(0), ref.visibility.at(0), mask).rmse;
+    const double pcss = compareVisibility(test::renderFrame(r, *scene, opt).visibility.at(0), ref.visibility.at(0), mask).rmse;
     opt.shadow = "mvr";
-    opt.shadowParams = "views=128";
-    const double mvr = compareVisibility(r.render(*scene, opt).visibility.at(0), ref.visibility.at(0), mask).rmse;
+    opt.shadowParams = {"views=128"};
+    const double mvr = compareVisibility(test::renderFrame(r, *scene, opt).visibility.at(0), ref.visibility.at(0), mask).rmse;
     EXPECT_LT(mvr * 1.5, pcss) << name << ": mvr " << mvr << ", pcss " << pcss;
   }
 }
@@ -129,9 +131,9 @@ TEST(ShadowScenes, CastersThatCannotShadowAreCulledWithoutChangingTheImage) {
   for (const char* tech : {"hard", "pcss", "mvr"}) {
     opt.shadow = tech;
     opt.shadowCulling = true;
-    const Frame on = r.render(s, opt);
+    const Frame on = test::renderFrame(r, s, opt);
     opt.shadowCulling = false;
-    const Frame off = r.render(s, opt);
+    const Frame off = test::renderFrame(r, s, opt);
     ASSERT_EQ(on.stats.shadows.size(), 1u);
     EXPECT_EQ(on.stats.shadows[0].instancesCulled, 1u) << tech;
     EXPECT_EQ(off.stats.shadows[0].instancesCulled, 0u) << tech;
@@ -148,14 +150,14 @@ TEST(ShadowScenes, ALightWithNoCasterInReachTakesNoShadowPass) {
   opt.width = 96;
   opt.height = 64;
   opt.shadow = "mvr";
-  const Frame f = r.render(s, opt);
+  const Frame f = test::renderFrame(r, s, opt);
   ASSERT_EQ(f.stats.shadows.size(), 1u);
   EXPECT_TRUE(f.stats.shadows[0].skipped);
   EXPECT_EQ(f.stats.shadows[0].maps.trianglesIn, 0u);
   EXPECT_NE(f.stats.report().find("skipped: no shadow pass (no caster can reach a visible receiver)"), std::string::npos)
       << f.stats.report();
   opt.shadow = "none";
-  EXPECT_EQ(bytes(r.render(s, opt).color), bytes(f.color));
+  EXPECT_EQ(bytes(test::renderFrame(r, s, opt).color), bytes(f.color));
 }
 
 TEST(ShadowScenes, ShadowedFramesAreByteIdenticalAcrossThreadCounts) {
@@ -167,11 +169,11 @@ TEST(ShadowScenes, ShadowedFramesAreByteIdenticalAcrossThreadCounts) {
     opt.width = 120;
     opt.height = 68;
     opt.shadow = t.name;
-    if (t.isReference) opt.shadowParams = "samples=64";
+    if (t.isReference) opt.shadowParams = {"samples=64"};
     std::vector<uint8_t> first;
     for (int threads : {1, 3}) {
       Renderer r(threads);
-      const auto b = bytes(r.render(*scene, opt).color);
+      const auto b = bytes(test::renderFrame(r, *scene, opt).color);
       if (first.empty()) first = b;
       EXPECT_EQ(b, first) << t.name << " at " << threads << " threads";
     }

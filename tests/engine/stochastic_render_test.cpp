@@ -2,6 +2,8 @@
 // bounding methods against each other, thread counts, convergence to the accumulation reference,
 // and the ordinary path that static instances keep.
 #include <gtest/gtest.h>
+
+#include "tests/engine/test_util.h"
 #include <tbb/global_control.h>
 
 #include <cstring>
@@ -41,7 +43,7 @@ TEST(StochasticRender, StaticPinholeFrameEqualsTheOrdinaryFrame) {
   const Scene scene = builtin(kDefaultScene);
   Renderer r(2);
   RenderOptions o = small(160, 90);
-  const Frame ordinary = r.render(scene, o);
+  const Frame ordinary = test::renderFrame(r, scene, o);
   EXPECT_FALSE(ordinary.stats.stochastic);
   EXPECT_NE(ordinary.stats.report().find("skipped passes: stochastic pass (skipped: no visible instance moves"),
             std::string::npos);
@@ -49,7 +51,7 @@ TEST(StochasticRender, StaticPinholeFrameEqualsTheOrdinaryFrame) {
   o.spp = 4;
   for (bool staticPath : {true, false}) {
     o.staticPath = staticPath;
-    const Frame forced = r.render(scene, o);
+    const Frame forced = test::renderFrame(r, scene, o);
     ASSERT_TRUE(forced.stats.stochastic);
     EXPECT_EQ(forced.stats.trianglesStochastic, staticPath ? 0u : scene.triangleCount());
     EXPECT_EQ(bytes(forced.color), bytes(ordinary.color)) << "static path " << staticPath;
@@ -69,7 +71,7 @@ TEST(StochasticRender, BoundingMethodsGiveTheSameFrameWithFewerTests) {
     for (stochastic::BoundMethod m :
          {stochastic::BoundMethod::Box, stochastic::BoundMethod::Interval, stochastic::BoundMethod::DualSpace}) {
       o.bounds = m;
-      const Frame f = r.render(scene, o);
+      const Frame f = test::renderFrame(r, scene, o);
       ASSERT_TRUE(f.stats.stochastic) << name;
       if (first.empty()) {
         first = bytes(f.color);
@@ -90,7 +92,7 @@ TEST(StochasticRender, ByteIdenticalAcrossThreadCounts) {
   std::vector<uint8_t> first;
   for (int threads : {1, 2, 5}) {
     Renderer r(threads);
-    const Frame f = r.render(scene, o);
+    const Frame f = test::renderFrame(r, scene, o);
     if (first.empty()) first = bytes(f.color);
     else EXPECT_EQ(bytes(f.color), first) << threads << " threads";
   }
@@ -104,11 +106,11 @@ TEST(StochasticRender, StaticInstancesKeepTheOrdinaryPath) {
   RenderOptions o = small();
   o.spp = 8;
   o.shadow = "none";
-  const Frame fast = r.render(scene, o);
+  const Frame fast = test::renderFrame(r, scene, o);
   o.staticPath = false;
-  const Frame shared = r.render(scene, o);
+  const Frame shared = test::renderFrame(r, scene, o);
   o.staticShortcut = false;
-  const Frame slow = r.render(scene, o);
+  const Frame slow = test::renderFrame(r, scene, o);
   EXPECT_EQ(bytes(fast.color), bytes(shared.color));
   EXPECT_EQ(bytes(fast.color), bytes(slow.color));
   EXPECT_GT(fast.stats.instancesOrdinary, 0u);
@@ -129,18 +131,18 @@ TEST(StochasticRender, ConvergesToTheAccumulationReference) {
     Renderer r(2);
     RenderOptions o = small(96, 54);
     o.shadow = "none";
-    const raster::ImageFloat4 ref = accumulationReference(r, scene, o, 256);
+    const raster::ImageFloat4 ref = accumulationReference(r, scene, o, 256).value();
     double last = 1.0;
     for (int spp : {1, 4, 16}) {
       o.spp = spp;
-      const double e = imageRmse(r.render(scene, o).linear, ref);
+      const double e = imageRmse(test::renderFrame(r, scene, o).linear, ref);
       EXPECT_LT(e, last * 0.8) << name << " at " << spp << " spp";
       last = e;
     }
     // Beyond that the error reaches the floor of shading each surface once per pixel and of the
     // reference's own 256 frames (docs/stochastic.md).
     o.spp = 64;
-    EXPECT_LT(imageRmse(r.render(scene, o).linear, ref), last * 1.05) << name;
+    EXPECT_LT(imageRmse(test::renderFrame(r, scene, o).linear, ref), last * 1.05) << name;
     EXPECT_LT(last, 0.03) << name;
   }
 }
@@ -151,12 +153,12 @@ TEST(StochasticRender, FixedSampleFramesMoveTheInstancesAndTheLens) {
   RenderOptions o = small();
   o.shadow = "none";
   o.at = stochastic::Sample{0.0f, 0.0f, 0.0f};
-  const Frame open = r.render(scene, o);
+  const Frame open = test::renderFrame(r, scene, o);
   EXPECT_FALSE(open.stats.stochastic);
   o.at = stochastic::Sample{1.0f, 0.0f, 0.0f};
-  const Frame close = r.render(scene, o);
+  const Frame close = test::renderFrame(r, scene, o);
   o.at = stochastic::Sample{0.0f, 0.9f, 0.0f};
-  const Frame lens = r.render(scene, o);
+  const Frame lens = test::renderFrame(r, scene, o);
   EXPECT_NE(bytes(open.color), bytes(close.color));
   EXPECT_NE(bytes(open.color), bytes(lens.color));
 }
@@ -182,7 +184,7 @@ TEST(StochasticRender, LensFrustumCullingKeepsObjectsSeenThroughTheMiddleOfTheLe
   o.spp = 8;
   o.shadow = "none";
   o.camera = scene.camera;
-  const Frame f = r.render(scene, o);
+  const Frame f = test::renderFrame(r, scene, o);
   for (const std::string& n : f.stats.culledNames) EXPECT_NE(n, "near ball");
   const uint32_t id = static_cast<uint32_t>(scene.instances.size() - 1);
   int pixels = 0;
@@ -198,7 +200,10 @@ TEST(StochasticRender, RejectsSamplesPerPixelOutOfRange) {
   RenderOptions o = small(16, 16);
   for (int spp : {0, 65}) {
     o.spp = spp;
-    EXPECT_THROW(r.render(scene, o), std::invalid_argument);
+    const Result<Frame> f = r.render(scene, o);
+    ASSERT_FALSE(f.ok());
+    EXPECT_EQ(f.error().where, "option --spp");
+    EXPECT_NE(f.error().what.find("[1, 64]"), std::string::npos) << f.error().line();
   }
 }
 

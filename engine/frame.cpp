@@ -1,0 +1,59 @@
+#include "engine/frame.h"
+
+#include <cstdio>
+
+namespace penumbra::engine {
+
+std::string FrameStats::report() const {
+  std::string s;
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "frame: %.2f ms (cull %.2f, G-buffer %.2f, shadows %.2f, shade %.2f); camera %s\n"
+                "  instances %zu: culled by view frustum before vertex work %zu (%zu triangles skipped), drawn %zu "
+                "(%zu triangles)\n",
+                msTotal, msCull, msGbuffer, msShadows, msShade, cameraSource.c_str(), instances, instancesCulled,
+                trianglesSkippedByCulling, instances - instancesCulled, trianglesSubmitted);
+  s += buf;
+  if (!culledNames.empty()) {
+    s += "  culled:";
+    for (const std::string& n : culledNames) s += " '" + n + "'";
+    if (instancesCulled > culledNames.size()) s += " ...";
+    s += "\n";
+  }
+  s += gbuffer.report("G-buffer pass");
+  for (size_t i = 0; i < shadows.size(); ++i) {
+    const LightShadowStats& l = shadows[i];
+    std::snprintf(buf, sizeof buf,
+                  "  area light %zu: %s%s%s: %.2f ms (flatten %.2f, fit %.2f, maps %.2f, filter %.2f, evaluate %.2f)\n"
+                  "    receivers in front %zu (beyond the views' 84-degree limit %zu), behind the light %zu; "
+                  "instances culled by the light's region %zu; triangles flattened %zu, culled per triangle %zu, "
+                  "kept %zu\n",
+                  i, l.technique.c_str(), l.params.empty() ? "" : " ", l.params.c_str(),
+                  l.msFlatten + l.msFit + l.times.total(), l.msFlatten, l.msFit, l.times.msMaps, l.times.msFilter,
+                  l.times.msEvaluate, l.receivers, l.receiversOutside, l.receiversBehind, l.instancesCulled,
+                  l.trianglesFlattened,
+                  l.trianglesCulled, l.trianglesFlattened - l.trianglesCulled);
+    s += buf;
+    if (l.skipped) s += "    skipped: no shadow pass (" + l.skipReason + "); V = 1 in front of the light\n";
+    for (const std::string& n : l.notes) s += "    " + n + "\n";
+    if (l.maps.trianglesIn > 0) s += "  " + l.maps.report("shadow map passes (summed)");
+  }
+  std::snprintf(buf, sizeof buf, "  ordinary G-buffer pass: %zu instances (%zu triangles)\n", instancesOrdinary,
+                trianglesOrdinary);
+  s += buf;
+  if (stochastic) {
+    std::snprintf(buf, sizeof buf,
+                  "  stochastic pass: %s; %zu instances (%zu triangles) through it, %.2f ms (the tiles include "
+                  "the layers' G-buffer)\n",
+                  stochasticPlan.c_str(), instancesStochastic, trianglesStochastic, msStochastic);
+    s += buf;
+    s += stoch.report(boundMethod);
+  }
+  std::string skipped;
+  if (shadows.empty()) skipped += "shadow maps (no area light)";
+  if (!stochastic) skipped += (skipped.empty() ? "" : ", ") + std::string("stochastic pass (") + stochasticPlan + ")";
+  if (!skipped.empty()) s += "  skipped passes: " + skipped + "\n";
+  return s;
+}
+
+}  // namespace penumbra::engine

@@ -1,0 +1,56 @@
+// The G-buffer pass: the ordinary path's instances drawn through the pipeline (raster/pipeline.h)
+// into world position, normal, albedo and material per pixel, and the building blocks the
+// stochastic pass (stochastic_pass.h) shares to make its layers' texels the same way.
+//
+// Per instance: its material and texture, normal matrices and the texture's texels per world unit
+// of each triangle (the level of detail); per vertex 8 varyings (world position, world normal,
+// uv) at a shutter time; per fragment a texel (the normal faces the viewer; the texture sampled
+// trilinearly at the fragment's level of detail).
+//
+// Thread-safety: InstanceShading is immutable once prepared; vertexVaryings and gbufferTexel are
+// pure (the pipeline calls them from several threads); drawGBuffer runs in the rasterizer's arena.
+#pragma once
+
+#include <cstdint>
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+#include <vector>
+
+#include "engine/frame.h"
+#include "engine/frame_plan.h"
+#include "engine/scene.h"
+#include "raster/pipeline.h"
+
+namespace penumbra::engine {
+
+inline constexpr int kGbufferVaryings = 8;  // world position, world normal, uv
+
+// What the G-buffer needs of one instance, with transforms t0 at shutter open and t1 at close.
+struct InstanceShading {
+  const Material* mat = nullptr;
+  const Texture* tex = nullptr;
+  int32_t material = -1;  // the G-buffer's material index
+  glm::mat4 t0{1.0f}, t1{1.0f};
+  glm::mat3 n0{1.0f}, n1{1.0f};
+  bool moves = false, hasUv = false;
+  std::vector<float> texelsPerUnit;
+};
+InstanceShading prepareInstance(const Scene& scene, const Instance& inst, const glm::mat4& t0, const glm::mat4& t1);
+
+// The G-buffer varyings of vertex i at shutter time t: positions and normals move on straight
+// lines (a static instance gives the shutter-open values bit for bit).
+void vertexVaryings(const Mesh& mesh, const InstanceShading& sh, uint32_t i, float t, float* v);
+
+// One G-buffer texel from a fragment (the ordinary pass and the stochastic layers alike).
+GBufferTexel gbufferTexel(const InstanceShading& sh, const raster::Fragment& f, const glm::vec3& eye, float pixelAngle);
+
+// The material of a G-buffer texel's index (InstanceShading::material): the scene's, or the default
+// material for the index one past the scene's list.
+const Material& gbufferMaterial(const Scene& scene, int32_t material);
+
+// Clears frame.depth and frame.gbuffer to the plan's size and draws the plan's ordinary instances
+// (a fixed-sample frame: at its time); fills stats.gbuffer, instancesOrdinary, trianglesOrdinary,
+// msGbuffer.
+void drawGBuffer(raster::Rasterizer& raster, const Scene& scene, const FramePlan& plan, Frame& frame);
+
+}  // namespace penumbra::engine

@@ -1,0 +1,90 @@
+// What a frame is asked for (RenderOptions) and the one place it is checked: resolveOptions turns
+// it into ResolvedOptions (the shadow technique and its parameter values, the stochastic pass's
+// sample settings) or an Error naming the option and its range. The renderer takes only resolved
+// options; the command line and the benchmarks pass the user's values through unchecked and print
+// the Error; their help text quotes the ranges from the specs below.
+//
+// Plain values; resolveOptions is a pure function, safe from any thread.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/error.h"
+#include "engine/scene.h"
+#include "shadows/technique.h"
+#include "stochastic/rasterizer.h"
+
+namespace penumbra::engine {
+
+// The range of a numeric option: [lo, hi], an end open where said; a power of two where said.
+struct OptionSpec {
+  const char* option;  // how the command line spells it, "--spp"; errors name it
+  double lo = 0, hi = 0;
+  bool loOpen = false, hiOpen = false;
+  bool powerOfTwo = false;
+  // "[1, 64]", "(0, 180)", "a power of 2 in [1, 64]".
+  std::string range() const;
+  bool contains(double v) const;
+  // Ok, or Error{"option --spp", "must be in [1, 64], got 65"}.
+  Status check(double v) const;
+};
+
+inline constexpr OptionSpec kWidthOption{"--width", 1, 16384};
+inline constexpr OptionSpec kHeightOption{"--height", 1, 16384};
+inline constexpr OptionSpec kThreadsOption{"--threads", 0, 1024};  // 0: all hardware threads
+inline constexpr OptionSpec kFovOption{"--fov", 0, 180, true, true};
+inline constexpr OptionSpec kApertureOption{"--aperture", 0, 1e6, false, true};
+inline constexpr OptionSpec kFocusOption{"--focus", 0, 1e9, true, true};
+inline constexpr OptionSpec kSppOption{"--spp", 1, stochastic::kMaxSpp};
+inline constexpr OptionSpec kTimeStrataOption{"--strata (time strata T)", 1, stochastic::kMaxTimeStrata};
+inline constexpr OptionSpec kLensStrataOption{"--strata (lens cells L)", 1, stochastic::kMaxLensStrata};
+inline constexpr OptionSpec kDualBlockOption{"--dual-block", 1, stochastic::kMaxDualBlock, false, false, true};
+inline constexpr OptionSpec kFrameOption{"--frame", 0, 4294967295.0};
+
+struct RenderOptions {
+  int width = 1280;    // pixels, kWidthOption
+  int height = 720;    // pixels, kHeightOption
+  // Overrides the scene's camera; its field of view, aperture and focus distance are checked
+  // against kFovOption, kApertureOption and kFocusOption, eye and target must differ.
+  std::optional<Camera> camera;
+  // Soft shadows of the area lights: a technique of the shadows/ registry ("reference" is the
+  // ray-traced ground truth) or "none" (unshadowed), with "name=value" parameters (each checked
+  // against the technique's ParamSpec; a list "a=1,b=2" in one string is split at the commas).
+  std::string shadow = "pcss";
+  std::vector<std::string> shadowParams;
+  std::string cacheDir;       // where techniques may cache results ("" = none)
+  bool shadowCulling = true;  // cull casters outside each light's region (off: to measure the saving)
+  // Motion blur and depth of field: the stochastic pass (stochastic/), taken when a visible
+  // instance moves or the camera has an aperture.
+  int spp = 16;  // samples per pixel, kSppOption
+  stochastic::BoundMethod bounds = stochastic::BoundMethod::DualSpace;
+  // Interval bounds: time strata (kTimeStrataOption) and lens cells per axis (kLensStrataOption);
+  // none: the defaults of StochasticConfig.
+  std::optional<int> timeStrata, lensStrata;
+  int dualBlock = 4;                   // dual-space bounds: block side, kDualBlockOption
+  int64_t frame = 0;                   // seeds the sample pattern, kFrameOption
+  bool staticPath = true;         // static instances seen through a pinhole take the ordinary G-buffer pass
+  bool staticShortcut = true;     // in the stochastic pass, one test per pixel for a static triangle (pinhole)
+  bool forceStochastic = false;   // a stochastic pass even with no motion and a pinhole (tests)
+  // Instead of a stochastic pass, the pinhole frame at one shutter time and lens position: every
+  // instance at time t, the camera looking through lens point (u, v). Averaging many of these is
+  // the accumulation-buffer reference of motion blur and depth of field. t in [0, 1), (u, v) in
+  // the unit disk (t in [0, 1], both ends of the shutter included).
+  std::optional<stochastic::Sample> at;
+  stochastic::StochasticDebug debug;  // optional per-sample / per-pixel outputs of the stochastic pass
+};
+
+struct ResolvedOptions {
+  RenderOptions options;                              // as given, every value in range
+  const shadows::TechniqueInfo* technique = nullptr;  // null: "none"
+  shadows::ParamSet params;                           // the technique's values
+  stochastic::StochasticConfig sampling;              // method, strata, dual block, spp, frame, shortcut
+};
+
+// Checks every option; the Error names the first bad one ("option --spp", "option --param", ...).
+Result<ResolvedOptions> resolveOptions(const RenderOptions& options);
+
+}  // namespace penumbra::engine

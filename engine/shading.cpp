@@ -1,0 +1,110 @@
+#include "engine/shading.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+
+#include "engine/gbuffer_pass.h"
+#include "engine/texture.h"
+#include "raster/timing.h"
+#include "shadows/area_light.h"
+
+namespace penumbra::engine {
+
+namespace {
+
+// Radiance towards the eye of one G-buffer texel; vy: its row in the visibility images.
+glm::vec3 shadeTexel(const Scene& scene, const glm::vec3& eye, const std::vector<raster::ImageFloat>& visibility,
+                     const GBufferTexel& g, int x, int vy) {
+  const Material& mat = gbufferMaterial(scene, g.material);
+  const glm::vec3 v = glm::normalize(eye - g.position);
+  glm::vec3 c = scene.ambient * g.albedo;
+  auto light = [&](const glm::vec3& l, const glm::vec3& radiance) {
+    const float ndl = glm::dot(g.normal, l);
+    if (ndl <= 0.0f) return;
+    glm::vec3 contrib = g.albedo * ndl;
+    if (mat.specular > 0.0f) {
+      const glm::vec3 hv = glm::normalize(l + v);
+      contrib += glm::vec3(mat.specular * std::pow(std::max(glm::dot(g.normal, hv), 0.0f), mat.shininess) * ndl);
+    }
+    c += contrib * radiance;
+  };
+  for (const DirectionalLight& dl : scene.directionalLights) light(-glm::normalize(dl.direction), dl.color * dl.intensity);
+  for (const PointLight& pl : scene.pointLights) {
+    const glm::vec3 d = pl.position - g.position;
+    const float d2 = std::max(glm::dot(d, d), 1e-8f);
+    light(d / std::sqrt(d2), pl.color * (pl.intensity / d2));
+  }
+  for (size_t li = 0; li < scene.areaLights.size(); ++li) {
+    const shadows::RectLight& al = scene.areaLights[li];
+    // Diffuse: rho / pi * E with E = radiance * irradianceFactor (exact, unshadowed), times V.
+    const float factor = shadows::irradianceFactor(al, g.position, g.normal);
+    if (factor <= 0.0f) continue;
+    const glm::vec3 e = al.color * (al.intensity * factor * visibility[li].at(x, vy));
+    c += g.albedo * e * (1.0f / std::numbers::pi_v<float>);
+    // Specular: Blinn-Phong towards the light's centre, scaled by the same E.
+    const glm::vec3 toLight = glm::normalize(al.center - g.position);
+    if (mat.specular > 0.0f && glm::dot(g.normal, toLight) > 0.0f) {
+      const glm::vec3 hv = glm::normalize(toLight + v);
+      c += e * (mat.specular * std::pow(std::max(glm::dot(g.normal, hv), 0.0f), mat.shininess) /
+                std::numbers::pi_v<float>);
+    }
+  }
+  return c;
+}
+
+}  // namespace
+
+void shadeFrame(raster::Rasterizer& raster, const Scene& scene, const FramePlan& plan,
+                const std::vector<raster::ImageFloat>& visibility, Frame& frame) {
+  const auto t0 = raster::Clock::now();
+  const int w = plan.width, h = plan.height;
+  const bool layered = frame.spp > 0;
+  frame.linear.resize(w, h);
+  frame.color.resize(w, h);
+  const glm::vec3 eye = plan.camera.eye;
+  raster.run([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
+      for (int y = rows.begin(); y != rows.end(); ++y)
+        for (int x = 0; x < w; ++x) {
+          glm::vec3 c = scene.background;
+          float alpha = 0.0f;
+          if (!layered) {
+            const GBufferTexel& g = frame.gbuffer.at(x, y);
+            if (g.material >= 0) {
+              c = shadeTexel(scene, eye, visibility, g, x, y);
+              alpha = 1.0f;
+            }
+          } else {
+            // Box filter: each surface weighted by the share of the pixel's samples it holds.
+            const stochastic::ResolvedPixel& rp = frame.resolved.at(x, y);
+            if (rp.layers == 1 && rp.layer[0].count == frame.spp && frame.gbuffer.at(x, y).material >= 0) {
+              c = shadeTexel(scene, eye, visibility, frame.gbuffer.at(x, y), x, y);  // one surface: exact
+              alpha = 1.0f;
+            } else if (rp.layers > 0) {
+              const float inv = 1.0f / static_cast<float>(frame.spp);
+              c = scene.background * (static_cast<float>(rp.background) * inv);
+              for (int l = 0; l < rp.layers; ++l) {
+                const float wgt = static_cast<float>(rp.layer[l].count) * inv;
+                const GBufferTexel& g = frame.layerTexel(l, x, y);
+                if (g.material < 0) {
+                  c += scene.background * wgt;
+                  continue;
+                }
+                c += shadeTexel(scene, eye, visibility, g, x, y + l * h) * wgt;
+                alpha += wgt;
+              }
+            }
+          }
+          frame.linear.at(x, y) = raster::Float4{c.x, c.y, c.z, alpha};
+          frame.color.at(x, y) = raster::Rgba8{linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z), 255};
+        }
+    });
+  });
+  frame.stats.msShade = raster::msSince(t0);
+}
+
+}  // namespace penumbra::engine

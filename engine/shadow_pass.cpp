@@ -1,0 +1,116 @@
+#include "engine/shadow_pass.h"
+
+#include <tbb/parallel_for.h>
+
+#include "raster/timing.h"
+
+namespace penumbra::engine {
+
+namespace {
+
+// The instances that may shadow a receiver of the light's region, flattened to world space at
+// the casters' time.
+struct Casters {
+  std::vector<glm::vec3> positions;
+  std::vector<uint32_t> indices;
+};
+
+Casters flattenCasters(const Scene& scene, const shadows::RectLight& light, const shadows::LightRegion& region,
+                       float casterTime, bool cull, LightShadowStats& st) {
+  Casters c;
+  for (const Instance& inst : scene.instances) {
+    const Mesh& m = scene.meshes[static_cast<size_t>(inst.mesh)];
+    const glm::mat4 transform = inst.moves() ? inst.transformAt(casterTime) : inst.transform;
+    glm::vec3 corners[8];
+    for (int k = 0; k < 8; ++k)
+      corners[k] = glm::vec3(transform * glm::vec4((k & 1) ? m.boundsMax.x : m.boundsMin.x,
+                                                   (k & 2) ? m.boundsMax.y : m.boundsMin.y,
+                                                   (k & 4) ? m.boundsMax.z : m.boundsMin.z, 1.0f));
+    if (m.indices.empty()) continue;
+    if (cull && !region.mayShadow(light, corners)) {
+      ++st.instancesCulled;
+      continue;
+    }
+    const uint32_t base = static_cast<uint32_t>(c.positions.size());
+    for (const glm::vec3& p : m.positions) c.positions.push_back(glm::vec3(transform * glm::vec4(p, 1.0f)));
+    for (uint32_t i : m.indices) c.indices.push_back(base + i);
+  }
+  return c;
+}
+
+// V of one area light over the receivers.
+raster::ImageFloat lightVisibility(raster::Rasterizer& raster, const Scene& scene, const FramePlan& plan,
+                                   const ResolvedOptions& options, const shadows::ReceiverImage& rec,
+                                   const shadows::RectLight& light, LightShadowStats& st) {
+  const auto t0 = raster::Clock::now();
+  shadows::LightRegion region;
+  raster.run([&] { region = shadows::fitRegion(light, rec); });
+  st.receivers = region.receivers;
+  st.receiversBehind = region.receiversBehind;
+  st.receiversOutside = region.receiversOutside;
+  const Casters casters = flattenCasters(scene, light, region, plan.casterTime, options.options.shadowCulling, st);
+  st.trianglesFlattened = casters.indices.size() / 3;
+  st.msFlatten = raster::msSince(t0);
+  if (!options.technique) return raster::ImageFloat(rec.width(), rec.height(), 1.0f);  // "none": unshadowed
+  shadows::ShadowInputs in;
+  in.casters = {casters.positions, casters.indices};
+  in.receivers = &rec;
+  in.light = light;
+  in.cacheDir = options.options.cacheDir;
+  in.cullCasters = options.options.shadowCulling;
+  shadows::ShadowResult r = shadows::computeShadows(raster, in, *options.technique, options.params);
+  st.trianglesCulled = r.trianglesCulled;
+  st.skipped = r.skipped;
+  st.skipReason = r.skipReason;
+  st.times = r.times;
+  st.msFit = r.msFit;
+  st.notes = std::move(r.notes);
+  st.maps = r.mapPasses;
+  return std::move(r.visibility);
+}
+
+}  // namespace
+
+shadows::ReceiverImage stackReceivers(raster::Rasterizer& raster, const Frame& frame,
+                                      const std::vector<raster::Image<shadows::Receiver>>& layerReceivers) {
+  const int w = frame.gbuffer.width(), h = frame.gbuffer.height();
+  const int layers = layerReceivers.empty() ? 1 : static_cast<int>(layerReceivers.size());
+  shadows::ReceiverImage rec(w, h * layers);
+  raster.run([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
+      for (int y = rows.begin(); y != rows.end(); ++y)
+        for (int x = 0; x < w; ++x) {
+          if (layerReceivers.empty()) {
+            const GBufferTexel& g = frame.gbuffer.at(x, y);
+            rec.at(x, y) = {g.position, g.normal, g.material >= 0 ? 1u : 0u};
+            continue;
+          }
+          const int n = frame.resolved.at(x, y).layers;
+          for (int l = 0; l < layers; ++l) {
+            shadows::Receiver r = layerReceivers[static_cast<size_t>(l)].at(x, y);
+            if (l >= n) r.valid = 0;
+            rec.at(x, y + l * h) = r;
+          }
+        }
+    });
+  });
+  return rec;
+}
+
+std::vector<raster::ImageFloat> runShadowPass(raster::Rasterizer& raster, const Scene& scene, const FramePlan& plan,
+                                              const ResolvedOptions& options, const shadows::ReceiverImage& receivers,
+                                              FrameStats& stats) {
+  const auto t0 = raster::Clock::now();
+  std::vector<raster::ImageFloat> visibility;
+  for (const shadows::RectLight& light : scene.areaLights) {
+    LightShadowStats ls;
+    ls.technique = options.technique ? options.technique->name : "none";
+    ls.params = options.technique ? options.params.changed() : "";
+    visibility.push_back(lightVisibility(raster, scene, plan, options, receivers, light, ls));
+    stats.shadows.push_back(std::move(ls));
+  }
+  stats.msShadows = raster::msSince(t0);
+  return visibility;
+}
+
+}  // namespace penumbra::engine
