@@ -42,6 +42,7 @@
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "apps/point_cloud.h"
+#include "engine/report.h"
 #include "engine/builtin_scenes.h"
 #include "raster/splat.h"
 
@@ -176,17 +177,24 @@ struct Row {
   double targetsMiB() const { return static_cast<double>(views) * size * size * 8.0 / (1 << 20); }
 
   std::string json() const {
-    char buf[768];
-    std::snprintf(
-        buf, sizeof buf,
-        "{\"points\":%lld,\"views\":%d,\"size\":%d,\"threads\":%d,\"runs\":%d,\"ms_median\":%.3f,"
-        "\"ms_min\":%.3f,\"mpoints_per_s\":%.2f,\"mpointviews_per_s\":%.2f,\"written_fraction\":%.4f,"
-        "\"targets_mib\":%.1f,\"targets_in_cache\":%s,\"bytes_per_pointview\":%.3f,\"bandwidth_gb_s\":%.2f,"
-        "\"bound_mpointviews_per_s\":%.2f,\"fraction_of_bound\":%.4f}",
-        static_cast<long long>(points), views, size, threads, runs, msMedian, msMin, mpointsPerS(),
-        mpointviewsPerS(), writtenFraction, targetsMiB(), inCache ? "true" : "false", bytesPerPointview(),
-        bandwidth * 1e-9, boundMpointviewsPerS(), mpointviewsPerS() / boundMpointviewsPerS());
-    return buf;
+    engine::report::Json j;
+    j["points"] = points;
+    j["views"] = views;
+    j["size"] = size;
+    j["threads"] = threads;
+    j["runs"] = runs;
+    j["ms_median"] = engine::report::jsonNumber(msMedian);
+    j["ms_min"] = engine::report::jsonNumber(msMin);
+    j["mpoints_per_s"] = engine::report::jsonNumber(mpointsPerS());
+    j["mpointviews_per_s"] = engine::report::jsonNumber(mpointviewsPerS());
+    j["written_fraction"] = engine::report::jsonNumber(writtenFraction);
+    j["targets_mib"] = engine::report::jsonNumber(targetsMiB());
+    j["targets_in_cache"] = inCache;
+    j["bytes_per_pointview"] = engine::report::jsonNumber(bytesPerPointview());
+    j["bandwidth_gb_s"] = engine::report::jsonNumber(bandwidth * 1e-9);
+    j["bound_mpointviews_per_s"] = engine::report::jsonNumber(boundMpointviewsPerS());
+    j["fraction_of_bound"] = engine::report::jsonNumber(mpointviewsPerS() / boundMpointviewsPerS());
+    return engine::report::jsonLine(j);
   }
   std::string line() const {
     char buf[512];

@@ -14,6 +14,7 @@
 #include "engine/image_io.h"
 #include "engine/metrics.h"
 #include "engine/renderer.h"
+#include "engine/result_cache.h"
 #include "engine/scene_file.h"
 
 namespace penumbra::apps {
@@ -146,7 +147,7 @@ int runBenchShadows(const BenchShadowsArgs& a) {
     engine::RenderOptions base;
     base.width = a.width;
     base.height = a.height;
-    base.cacheDir = cache;
+    base.cache = std::make_shared<engine::FileResultCache>(cache);
     // Ground truth.
     progress.step(++step, steps, name + ": ground truth, " + std::to_string(a.gtSamples) + " rays per pixel");
     engine::RenderOptions refOpt = base;

@@ -8,16 +8,16 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
 #include "apps/commands.h"
 #include "raster/timing.h"
+#include "engine/atomic_file.h"
 #include "engine/builtin_scenes.h"
 #include "engine/image_io.h"
 #include "engine/metrics.h"
 #include "engine/renderer.h"
+#include "engine/report.h"
 #include "engine/scene_file.h"
 #include "engine/texture.h"
 
@@ -25,7 +25,7 @@ namespace penumbra::apps {
 
 namespace {
 
-using Json = nlohmann::ordered_json;
+using engine::report::Json;
 
 struct Row {
   std::string scene, method;
@@ -81,84 +81,65 @@ raster::ImageRgba8 testsHeatMap(const std::vector<uint32_t>& tests, int w, int h
   return out;
 }
 
-const char* methodColor(const std::string& m) {
-  if (m == "box") return "#c0392b";
-  if (m == "interval") return "#e67e22";
-  if (m == "dual") return "#2471a3";
-  return "#7f8c8d";
-}
-
-// Run time (log x) against RMSE (linear y) for one scene's rows, the Pareto front joined.
+// Run time against RMSE for one scene's rows, the Pareto front joined (engine/report.h).
 std::string paretoSvg(const std::string& scene, const std::vector<Row>& rows) {
-  constexpr double kW = 640, kH = 400, kL = 70, kR = 20, kT = 30, kB = 50;
-  double xmin = 1e300, xmax = 0, ymax = 0;
-  for (const Row& r : rows) xmin = std::min(xmin, r.ms), xmax = std::max(xmax, r.ms), ymax = std::max(ymax, r.rmse);
-  const double lx0 = std::floor(std::log10(std::max(xmin, 1e-3))), lx1 = std::ceil(std::log10(std::max(xmax, 1e-3)) + 1e-9);
-  ymax = ymax > 0 ? ymax * 1.1 : 1.0;
-  auto px = [&](double ms) { return kL + (std::log10(std::max(ms, 1e-3)) - lx0) / std::max(lx1 - lx0, 1.0) * (kW - kL - kR); };
-  auto py = [&](double e) { return kH - kB - e / ymax * (kH - kT - kB); };
-  char buf[512];
-  std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"400\" font-family=\"sans-serif\" font-size=\"12\">\n";
-  s += "<rect width=\"640\" height=\"400\" fill=\"white\"/>\n";
-  std::snprintf(buf, sizeof buf, "<text x=\"%g\" y=\"18\" font-size=\"14\">%s: stochastic pass time against RMSE vs the accumulation reference</text>\n", kL, scene.c_str());
-  s += buf;
-  for (double d = lx0; d <= lx1 + 1e-9; d += 1.0) {
-    const double x = px(std::pow(10.0, d));
-    std::snprintf(buf, sizeof buf, "<line x1=\"%.1f\" y1=\"%g\" x2=\"%.1f\" y2=\"%g\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%g\" text-anchor=\"middle\">%g ms</text>\n",
-                  x, kT, x, kH - kB, x, kH - kB + 16, std::pow(10.0, d));
-    s += buf;
-  }
-  for (int i = 0; i <= 4; ++i) {
-    const double e = ymax * i / 4.0, y = py(e);
-    std::snprintf(buf, sizeof buf, "<line x1=\"%g\" y1=\"%.1f\" x2=\"%g\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%g\" y=\"%.1f\" text-anchor=\"end\">%.4f</text>\n",
-                  kL, y, kW - kR, y, kL - 6, y + 4, e);
-    s += buf;
-  }
-  std::snprintf(buf, sizeof buf, "<text x=\"%g\" y=\"%g\" text-anchor=\"middle\">stochastic pass, ms (log)</text><text x=\"14\" y=\"%g\" transform=\"rotate(-90 14 %g)\" text-anchor=\"middle\">RMSE (linear radiance)</text>\n",
-                (kL + kW - kR) / 2, kH - 12, kH / 2, kH / 2);
-  s += buf;
-  // Pareto front: no other row at least as fast and as accurate, and better in one.
-  std::vector<const Row*> front;
-  for (const Row& r : rows) {
-    bool dominated = false;
-    for (const Row& o : rows)
-      dominated |= (o.ms <= r.ms && o.rmse <= r.rmse && (o.ms < r.ms || o.rmse < r.rmse));
-    if (!dominated) front.push_back(&r);
-  }
-  std::sort(front.begin(), front.end(), [](const Row* a, const Row* b) { return a->ms < b->ms; });
-  if (front.size() > 1) {
-    s += "<polyline fill=\"none\" stroke=\"#555\" stroke-dasharray=\"4 3\" points=\"";
-    for (const Row* r : front) {
-      std::snprintf(buf, sizeof buf, "%.1f,%.1f ", px(r->ms), py(r->rmse));
-      s += buf;
-    }
-    s += "\"/>\n";
-  }
-  for (const Row& r : rows) {
-    std::snprintf(buf, sizeof buf, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"%s\"/><text x=\"%.1f\" y=\"%.1f\" font-size=\"10\">%d%s</text>\n",
-                  px(r.ms), py(r.rmse), methodColor(r.method), r.staticPath ? "0.85" : "0.3", px(r.ms) + 7, py(r.rmse) - 5, r.spp,
-                  r.staticPath ? "" : " (no static path)");
-    s += buf;
-  }
-  int ly = 40;
-  for (const char* m : {"box", "interval", "dual"}) {
-    std::snprintf(buf, sizeof buf, "<circle cx=\"%g\" cy=\"%d\" r=\"5\" fill=\"%s\"/><text x=\"%g\" y=\"%d\">%s</text>\n", kW - 110, ly,
-                  methodColor(m), kW - 100, ly + 4, m);
-    s += buf;
-    ly += 16;
-  }
-  s += "<text x=\"530\" y=\"94\" font-size=\"10\">labels: samples per pixel</text>\n</svg>\n";
-  return s;
+  engine::report::PlotSpec spec;
+  spec.title = scene + ": stochastic pass time against RMSE vs the accumulation reference";
+  spec.xLabel = "stochastic pass (ms)";
+  spec.yLabel = "RMSE (linear radiance)";
+  spec.seriesOrder = {"box", "interval", "dual"};
+  spec.labelAll = true;
+  spec.note = "labels: samples per pixel; faded: without the ordinary path for static objects";
+  std::vector<engine::report::PlotPoint> points;
+  for (const Row& r : rows)
+    points.push_back({r.ms, r.rmse, r.method, std::to_string(r.spp) + (r.staticPath ? "" : " (no static path)"),
+                      !r.staticPath});
+  return engine::report::paretoSvg(spec, points);
 }
 
 void writeText(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    if (!f) fail(path.string(), "cannot write");
+  if (engine::Status st = engine::writeFileAtomically(path, text); !st) fail(st.error());
+}
+
+std::string csvRow(const Row& r) {
+  using engine::report::csvField;
+  using engine::report::number;
+  std::string s = csvField(r.scene) + "," + csvField(r.method) + "," + std::to_string(r.spp);
+  for (double v : {r.ms, static_cast<double>(r.tests), static_cast<double>(r.hits), r.ste, r.rmse, r.msFrame,
+                   static_cast<double>(r.scanned), r.steP10, r.steMedian, r.steP90}) {
+    s += ',';
+    s += number(v);
   }
-  std::filesystem::rename(tmp, path);
+  s += r.staticPath ? ",1" : ",0";
+  return s;
+}
+
+// One scene's section of the page: reference, plot, the table with images.
+std::string sceneHtml(const std::string& name, int refFrames, double refMs, const std::string& refImage,
+                      const std::vector<Row>& rows) {
+  using engine::report::escapeXml;
+  using engine::report::thumb;
+  using engine::report::urlAttr;
+  char buf[256];
+  std::string s = "<h2>" + escapeXml(name) + "</h2>\n";
+  std::snprintf(buf, sizeof buf, "<p>Reference: %d pinhole frames accumulated (%.0f ms).</p>\n", refFrames, refMs);
+  s += buf;
+  s += "<p>" + thumb(refImage, "reference: " + name) + " <img class=\"plot\" src=\"" + urlAttr("pareto-" + name + ".svg") +
+       "\" alt=\"" + escapeXml("time against error, " + name) + "\"></p>\n";
+  s += "<table>\n<tr><th>method</th><th>spp</th><th>ms</th><th>frame ms</th><th>tests</th><th>hits</th><th>STE</th>"
+       "<th>RMSE</th><th>image</th><th>tests per pixel</th></tr>\n";
+  for (const Row& r : rows) {
+    std::snprintf(buf, sizeof buf,
+                  "<td class=\"num\">%d</td><td class=\"num\">%.1f</td><td class=\"num\">%.1f</td>"
+                  "<td class=\"num\">%llu</td><td class=\"num\">%llu</td><td class=\"num\">%.3f</td>"
+                  "<td class=\"num\">%.5f</td>",
+                  r.spp, r.ms, r.msFrame, static_cast<unsigned long long>(r.tests),
+                  static_cast<unsigned long long>(r.hits), r.ste, r.rmse);
+    s += "<tr><td>" + escapeXml(r.method + (r.staticPath ? "" : " (no static path)")) + "</td>" + buf + "<td>" +
+         thumb(r.image, r.method + " " + std::to_string(r.spp)) + "</td><td>" +
+         thumb(r.heat, "tests per pixel, " + r.method + " " + std::to_string(r.spp)) + "</td></tr>\n";
+  }
+  return s + "</table>\n";
 }
 
 }  // namespace
@@ -194,10 +175,7 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
   engine::Renderer renderer(a.threads);
   std::vector<Row> rows;
   Json scenesJson = Json::array();
-  std::string html = "<!doctype html><meta charset=\"utf-8\"><title>penumbra bench stochastic</title>\n"
-                     "<style>body{font-family:sans-serif;margin:2em}td,th{padding:2px 8px;text-align:right}"
-                     "img{margin:2px}</style>\n<h1>Stochastic rasterization: run time against error</h1>\n";
-  char buf[512];
+  std::string html;
   for (auto& [name, scene] : scenes) {
     std::fprintf(stderr, "bench stochastic: %s: accumulation reference (%d frames)\n", name.c_str(), a.refFrames);
     const auto t0 = std::chrono::steady_clock::now();
@@ -247,7 +225,7 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
       if (engine::Status st = engine::writeImage((out / row.image).string(), f.color); !st) fail(st.error());
       if (engine::Status st = engine::writeImage((out / row.heat).string(), testsHeatMap(testsPerPixel, a.width, a.height)); !st)
         fail(st.error());
-      if (a.json) std::printf("%s\n", rowJson(row).dump().c_str());
+      if (a.json) std::printf("%s\n", engine::report::jsonLine(rowJson(row)).c_str());
       else
         std::printf("%-15s %-9s %2d spp%s: %9.2f ms  tests %11llu  hits %10llu  STE %.3f  RMSE %.5f\n", name.c_str(),
                     row.method.c_str(), spp, staticPath ? "" : " (no static path)", row.ms,
@@ -262,20 +240,7 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
     // What the ordinary path saves: the same frame with every static triangle tested per sample.
     if (ordinary > 0) run(methods.back(), 16, false);
     writeText(out / ("pareto-" + name + ".svg"), paretoSvg(name, sceneRows));
-    std::snprintf(buf, sizeof buf, "<h2>%s</h2>\n<p>Reference: %d pinhole frames accumulated (%.0f ms).</p>\n"
-                  "<img src=\"%s\" width=\"%d\"> <img src=\"pareto-%s.svg\">\n<table><tr><th>method</th><th>spp</th>"
-                  "<th>ms</th><th>frame ms</th><th>tests</th><th>hits</th><th>STE</th><th>RMSE</th><th>image</th><th>tests per pixel</th></tr>\n",
-                  name.c_str(), a.refFrames, refMs, refName.c_str(), a.width, name.c_str());
-    html += buf;
-    for (const Row& r : sceneRows) {
-      std::snprintf(buf, sizeof buf, "<tr><td>%s%s</td><td>%d</td><td>%.1f</td><td>%.1f</td><td>%llu</td><td>%llu</td><td>%.3f</td><td>%.5f</td>"
-                    "<td><img src=\"%s\" width=\"160\"></td><td><img src=\"%s\" width=\"160\"></td></tr>\n",
-                    r.method.c_str(), r.staticPath ? "" : " (no static path)", r.spp, r.ms, r.msFrame,
-                    static_cast<unsigned long long>(r.tests), static_cast<unsigned long long>(r.hits), r.ste, r.rmse,
-                    r.image.c_str(), r.heat.c_str());
-      html += buf;
-    }
-    html += "</table>\n";
+    html += sceneHtml(name, a.refFrames, refMs, refName, sceneRows);
     rows.insert(rows.end(), sceneRows.begin(), sceneRows.end());
   }
   Json all;
@@ -286,19 +251,19 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
   all["threads"] = renderer.rasterizer().threads();
   all["scenes"] = scenesJson;
   Json rj = Json::array();
-  std::string csv = "scene,method,spp,ms,tests,hits,ste,rmse,ms_frame,scanned,ste_triangle_p10,ste_triangle_median,ste_triangle_p90,static_path\n";
+  std::string csv = "scene,method,spp,ms,tests,hits,ste,rmse,ms_frame,scanned,ste_triangle_p10,ste_triangle_median,"
+                    "ste_triangle_p90,static_path\n";
   for (const Row& r : rows) {
     rj.push_back(rowJson(r));
-    std::snprintf(buf, sizeof buf, "%s,%s,%d,%.17g,%llu,%llu,%.17g,%.17g,%.17g,%llu,%.17g,%.17g,%.17g,%d\n", r.scene.c_str(),
-                  r.method.c_str(), r.spp, r.ms, static_cast<unsigned long long>(r.tests), static_cast<unsigned long long>(r.hits),
-                  r.ste, r.rmse, r.msFrame, static_cast<unsigned long long>(r.scanned), r.steP10, r.steMedian, r.steP90,
-                  r.staticPath ? 1 : 0);
-    csv += buf;
+    csv += csvRow(r) + "\n";
   }
   all["rows"] = rj;
-  writeText(out / "results.json", all.dump(1) + "\n");
+  writeText(out / "results.json", engine::report::jsonFile(all));
   writeText(out / "results.csv", csv);
-  writeText(out / "index.html", html);
+  writeText(out / "index.html",
+            engine::report::htmlPage("Stochastic rasterization: run time against error",
+                                     "<p>Data: <a href=\"results.json\">results.json</a>, "
+                                     "<a href=\"results.csv\">results.csv</a>.</p>\n" + html));
   std::fprintf(stderr, "bench stochastic: report in %s/index.html\n", a.out.c_str());
   return 0;
 }

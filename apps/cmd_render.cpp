@@ -9,6 +9,7 @@
 #include "engine/builtin_scenes.h"
 #include "engine/image_io.h"
 #include "engine/renderer.h"
+#include "engine/result_cache.h"
 #include "engine/scene_file.h"
 #include "raster/conventions.h"
 #include "shadows/technique.h"
@@ -89,7 +90,7 @@ engine::RenderOptions renderOptions(const RenderArgs& a) {
     if (p.find(',') != std::string::npos) fail("option --param", "give one name=value per --param, not '" + p + "'");
     options.shadowParams.push_back(p);
   }
-  options.cacheDir = a.cache;
+  if (!a.cache.empty()) options.cache = std::make_shared<engine::FileResultCache>(a.cache);
   options.spp = a.spp;
   if (!stochastic::parseBoundMethod(a.bounds, options.bounds)) fail("option --bounds", "must be box, interval or dual");
   if (!a.strata.empty()) parseStrata(a.strata, options.timeStrata, options.lensStrata);
@@ -133,6 +134,7 @@ int runRender(const RenderArgs& a) {
   if (!a.target.empty()) target = parseVec3("--target", a.target);
   engine::RenderOptions options = renderOptions(a);
   resolveOrFail(options);
+  if (!a.cache.empty()) require(engine::checkCacheFolder(a.cache, "option --cache"));
   checkOutputs(a);
   checkPointOptions(a);
 

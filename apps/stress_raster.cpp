@@ -6,6 +6,8 @@
 #include <numbers>
 #include <random>
 
+#include "engine/report.h"
+
 namespace penumbra::apps {
 
 namespace {
@@ -251,15 +253,18 @@ StressRow depthOrder(raster::Rasterizer& r, const std::string& name, double rati
 }  // namespace
 
 std::string StressRow::json() const {
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "{\"case\":\"%s\",\"param\":\"%s\",\"pixels\":%llu,\"cracks\":%llu,\"double_hits\":%llu,"
-                "\"non_finite\":%llu,\"depth_order_errors\":%llu,\"clipped\":%llu,\"judged\":%s,\"ok\":%s}",
-                name.c_str(), param.c_str(), static_cast<unsigned long long>(pixels), static_cast<unsigned long long>(cracks),
-                static_cast<unsigned long long>(doubles), static_cast<unsigned long long>(nonFinite),
-                static_cast<unsigned long long>(depthErrors), static_cast<unsigned long long>(clipped),
-                judged ? "true" : "false", ok() ? "true" : "false");
-  return buf;
+  engine::report::Json j;
+  j["case"] = name;
+  j["param"] = param;
+  j["pixels"] = pixels;
+  j["cracks"] = cracks;
+  j["double_hits"] = doubles;
+  j["non_finite"] = nonFinite;
+  j["depth_order_errors"] = depthErrors;
+  j["clipped"] = clipped;
+  j["judged"] = judged;
+  j["ok"] = ok();
+  return engine::report::jsonLine(j);
 }
 
 std::vector<StressRow> runRasterStress(raster::Rasterizer& r) {

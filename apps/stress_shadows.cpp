@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "engine/report.h"
 #include "shadows/technique.h"
 
 namespace penumbra::apps {
@@ -94,14 +95,20 @@ ShadowStressRow runCase(raster::Rasterizer& rast, const shadows::TechniqueInfo& 
 }  // namespace
 
 std::string ShadowStressRow::json() const {
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "{\"suite\":\"shadows\",\"technique\":\"%s\",\"case\":\"%s\",\"param\":\"%s\",\"receivers\":%zu,"
-                "\"umbra\":%zu,\"lit\":%zu,\"non_finite\":%zu,\"out_of_range\":%zu,\"bleed\":%.6g,\"darkening\":%.6g,"
-                "\"ok\":%s}",
-                technique.c_str(), name.c_str(), param.c_str(), receivers, umbra, lit, nonFinite, outOfRange, bleed, darkening,
-                ok() ? "true" : "false");
-  return buf;
+  engine::report::Json j;
+  j["suite"] = "shadows";
+  j["technique"] = technique;
+  j["case"] = name;
+  j["param"] = param;
+  j["receivers"] = receivers;
+  j["umbra"] = umbra;
+  j["lit"] = lit;
+  j["non_finite"] = nonFinite;
+  j["out_of_range"] = outOfRange;
+  j["bleed"] = engine::report::jsonNumber(bleed);
+  j["darkening"] = engine::report::jsonNumber(darkening);
+  j["ok"] = ok();
+  return engine::report::jsonLine(j);
 }
 
 std::vector<ShadowStressRow> runShadowStress(raster::Rasterizer& rast) {

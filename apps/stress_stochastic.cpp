@@ -6,19 +6,25 @@
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>
 
+#include "engine/report.h"
 #include "stochastic/rasterizer.h"
 
 namespace penumbra::apps {
 
 std::string StochasticStressRow::json() const {
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "{\"case\":\"%s\",\"param\":\"%s\",\"method\":\"%s\",\"ms\":%.3f,\"tests\":%llu,\"hits\":%llu,"
-                "\"samples\":%llu,\"triangles\":%llu,\"mismatches\":%zu,\"bad_depth\":%zu,\"ok\":%s}",
-                name.c_str(), param.c_str(), method.c_str(), ms, static_cast<unsigned long long>(tests),
-                static_cast<unsigned long long>(hits), static_cast<unsigned long long>(samples),
-                static_cast<unsigned long long>(triangles), mismatches, badDepth, ok() ? "true" : "false");
-  return buf;
+  engine::report::Json j;
+  j["case"] = name;
+  j["param"] = param;
+  j["method"] = method;
+  j["ms"] = engine::report::jsonNumber(ms);
+  j["tests"] = tests;
+  j["hits"] = hits;
+  j["samples"] = samples;
+  j["triangles"] = triangles;
+  j["mismatches"] = mismatches;
+  j["bad_depth"] = badDepth;
+  j["ok"] = ok();
+  return engine::report::jsonLine(j);
 }
 
 namespace {

@@ -9,6 +9,8 @@
 #include <glm/geometric.hpp>
 #include <numbers>
 
+#include "engine/report.h"
+
 namespace penumbra::apps {
 
 namespace {
@@ -50,14 +52,21 @@ glm::mat4 w2CameraMatrix(const ViewFit& fit, glm::vec3* lightDir) {
 }
 
 std::string WorkloadResult::json() const {
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "{\"name\":\"%s\",\"tris\":%zu,\"workload\":\"%s\",\"res\":\"%s\",\"threads\":%d,\"frames\":%d,"
-                "\"median_ms\":%.3f,\"min_ms\":%.3f,\"max_ms\":%.3f,\"mtris_per_s\":%.2f,"
-                "\"ms_vertex\":%.3f,\"ms_setup_bin\":%.3f,\"ms_raster\":%.3f}",
-                name.c_str(), tris, workload.c_str(), res.c_str(), threads, frames, medianMs, minMs, maxMs, mtrisPerS,
-                stats.msVertex, stats.msSetupBin, stats.msRaster);
-  return buf;
+  engine::report::Json j;
+  j["name"] = name;
+  j["tris"] = tris;
+  j["workload"] = workload;
+  j["res"] = res;
+  j["threads"] = threads;
+  j["frames"] = frames;
+  j["median_ms"] = engine::report::jsonNumber(medianMs);
+  j["min_ms"] = engine::report::jsonNumber(minMs);
+  j["max_ms"] = engine::report::jsonNumber(maxMs);
+  j["mtris_per_s"] = engine::report::jsonNumber(mtrisPerS);
+  j["ms_vertex"] = engine::report::jsonNumber(stats.msVertex);
+  j["ms_setup_bin"] = engine::report::jsonNumber(stats.msSetupBin);
+  j["ms_raster"] = engine::report::jsonNumber(stats.msRaster);
+  return engine::report::jsonLine(j);
 }
 
 std::string WorkloadResult::line() const {

@@ -6,7 +6,6 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -16,6 +15,7 @@
 #include <system_error>
 #include <vector>
 
+#include "engine/atomic_file.h"
 #include "engine/texture.h"
 
 namespace penumbra::engine {
@@ -52,22 +52,6 @@ bool isFloatFormat(const std::string& ext) {
   return ext == ".exr" || ext == ".hdr" || ext == ".tif" || ext == ".tiff" || ext == ".pfm";
 }
 
-// "dir/name.ext" -> "dir/name.tmp-<pid>-<n>.ext": same directory (so the rename cannot cross file
-// systems), the real extension last (so OIIO picks the same format), unique within the process.
-fs::path temporaryPath(const fs::path& target) {
-  static std::atomic<unsigned> counter{0};
-  const unsigned n = counter.fetch_add(1, std::memory_order_relaxed);
-  fs::path tmp = target;
-  tmp.replace_filename(target.stem().string() + ".tmp-" + std::to_string(static_cast<long>(::getpid())) + "-" +
-                       std::to_string(n) + target.extension().string());
-  return tmp;
-}
-
-void removeQuietly(const fs::path& p) {
-  std::error_code ec;
-  fs::remove(p, ec);
-}
-
 // Pixels ready for OIIO: `channels` samples of `type` per pixel, rows `rowBytes` apart.
 struct PixelView {
   int width = 0, height = 0, channels = 0;
@@ -81,9 +65,9 @@ Status writeAtomically(const std::string& path, const PixelView& px) {
   if (px.width <= 0 || px.height <= 0) return Error{path, "cannot write an empty image"};
   const fs::path target(path);
   if (target.extension().empty()) return Error{path, "no file extension to choose the image format from"};
-  const fs::path tmp = temporaryPath(target);
+  TempFile tmp(target);  // removed on every early return
   try {
-    std::unique_ptr<ImageOutput> out = ImageOutput::create(tmp.string());
+    std::unique_ptr<ImageOutput> out = ImageOutput::create(tmp.path().string());
     if (!out) {
       (void)OIIO::geterror();  // retrieve (and drop) OIIO's pending message
       return Error{path, "unsupported image file type '" + target.extension().string() + "'"};
@@ -94,31 +78,17 @@ Status writeAtomically(const std::string& path, const PixelView& px) {
     // No timestamp: OIIO's OpenEXR writer stamps the current time as capDate unless DateTime is
     // set; an empty one keeps the same render's file the same bytes.
     spec.attribute("DateTime", "");
-    if (!out->open(tmp.string(), spec)) {
-      const std::string why = oneLine(out->geterror());
-      removeQuietly(tmp);
-      return Error{path, "cannot write: " + why};
-    }
+    if (!out->open(tmp.path().string(), spec)) return Error{path, "cannot write: " + oneLine(out->geterror())};
     const bool written = out->write_image(px.type, px.data, px.pixelBytes, px.rowBytes);
     std::string why = written ? std::string() : oneLine(out->geterror());
     const bool closed = out->close();
     if (written && !closed) why = oneLine(out->geterror());
     out.reset();
-    if (!written || !closed) {
-      removeQuietly(tmp);
-      return Error{path, "cannot write: " + why};
-    }
-    std::error_code ec;
-    fs::rename(tmp, target, ec);
-    if (ec) {
-      removeQuietly(tmp);
-      return Error{path, "cannot replace the file: " + ec.message()};
-    }
+    if (!written || !closed) return Error{path, "cannot write: " + why};
+    return tmp.commit();
   } catch (const std::exception& e) {
-    removeQuietly(tmp);
     return Error{path, "cannot write: " + oneLine(e.what())};
   }
-  return Ok{};
 }
 
 template <class T>

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,7 +56,9 @@ struct RenderOptions {
   // against the technique's ParamSpec; a list "a=1,b=2" in one string is split at the commas).
   std::string shadow = "pcss";
   std::vector<std::string> shadowParams;
-  std::string cacheDir;       // where techniques may cache results ("" = none)
+  // Where techniques may keep results between runs (the ground truth): engine/result_cache.h's
+  // folder, or any ResultCache; null: none.
+  std::shared_ptr<shadows::ResultCache> cache;
   bool shadowCulling = true;  // cull casters outside each light's region (off: to measure the saving)
   // Motion blur and depth of field: the stochastic pass (stochastic/), taken when a visible
   // instance moves or the camera has an aperture.

@@ -56,7 +56,7 @@ raster::ImageFloat lightVisibility(raster::Rasterizer& raster, const Scene& scen
   in.casters = {casters.positions, casters.indices};
   in.receivers = &rec;
   in.light = light;
-  in.cacheDir = options.options.cacheDir;
+  in.cache = options.options.cache.get();
   in.cullCasters = options.options.shadowCulling;
   shadows::ShadowResult r = shadows::computeShadows(raster, in, *options.technique, options.params);
   st.trianglesCulled = r.trianglesCulled;

@@ -1,7 +1,6 @@
 #include "shadows/ground_truth.h"
 
 #include <embree3/rtcore.h>
-#include <unistd.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -11,12 +10,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <glm/geometric.hpp>
-#include <functional>
-#include <thread>
 #include <stdexcept>
-#include <system_error>
 #include <vector>
 
 #include "shadows/sampling.h"
@@ -25,11 +20,9 @@ namespace penumbra::shadows {
 
 namespace {
 
-// Bumped whenever the image for given inputs could change (sampling, ray offsets, file layout): it
-// is part of the key and of the file header, so older cache files are never read.
+// Bumped whenever the image for given inputs could change (sampling, ray offsets): it is part of
+// the key, so older cache entries are never read.
 constexpr uint32_t kFormatVersion = 1;
-constexpr char kMagic[8] = {'P', 'N', 'B', 'R', 'G', 'T', '\r', '\n'};
-constexpr size_t kHeaderBytes = 40;
 constexpr int kMaxSamples = 65536;
 
 // Rays end this far short of the light (in units of the origin-to-light-point segment).
@@ -112,12 +105,6 @@ class Hasher {
   uint32_t lo_ = 0;
   bool pending_ = false;
 };
-
-uint64_t payloadHash(const float* values, size_t n) {
-  Hasher h;
-  for (size_t i = 0; i < n; ++i) h.f32(values[i]);
-  return h.finish();
-}
 
 // ---- Sampling -----------------------------------------------------------------------------------
 
@@ -236,12 +223,6 @@ int litSingle(RTCScene scene, const ReceiverRays& rr, const RectLight& light, ui
     lit += ray.tfar >= 0.0f ? 1 : 0;
   }
   return lit;
-}
-
-std::string hex16(uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
 }
 
 }  // namespace
@@ -432,109 +413,6 @@ uint64_t groundTruthKey(const Geometry& casters, const ReceiverImage& receivers,
   return h.finish();
 }
 
-std::filesystem::path groundTruthCachePath(const std::string& dir, uint64_t key) {
-  return std::filesystem::path(dir) / ("gt-" + hex16(key) + ".bin");
-}
-
-namespace {
-
-struct Header {
-  uint32_t version = 0, width = 0, height = 0, zero = 0;
-  uint64_t key = 0, payload = 0;
-};
-
-void encodeHeader(const Header& hd, char* out) {
-  std::memcpy(out, kMagic, 8);
-  std::memcpy(out + 8, &hd.version, 4);
-  std::memcpy(out + 12, &hd.width, 4);
-  std::memcpy(out + 16, &hd.height, 4);
-  std::memcpy(out + 20, &hd.zero, 4);
-  std::memcpy(out + 24, &hd.key, 8);
-  std::memcpy(out + 32, &hd.payload, 8);
-}
-
-}  // namespace
-
-bool readGroundTruthCache(const std::filesystem::path& file, uint64_t key, int width, int height,
-                          raster::ImageFloat& out) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) return false;
-  const uintmax_t size = std::filesystem::file_size(file, ec);
-  const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
-  if (ec || size != kHeaderBytes + n * sizeof(float)) return false;
-  std::ifstream in(file, std::ios::binary);
-  char head[kHeaderBytes];
-  if (!in.read(head, kHeaderBytes)) return false;
-  Header hd;
-  std::memcpy(&hd.version, head + 8, 4);
-  std::memcpy(&hd.width, head + 12, 4);
-  std::memcpy(&hd.height, head + 16, 4);
-  std::memcpy(&hd.zero, head + 20, 4);
-  std::memcpy(&hd.key, head + 24, 8);
-  std::memcpy(&hd.payload, head + 32, 8);
-  if (std::memcmp(head, kMagic, 8) != 0 || hd.version != kFormatVersion || hd.key != key || hd.zero != 0 ||
-      hd.width != static_cast<uint32_t>(width) || hd.height != static_cast<uint32_t>(height))
-    return false;
-  std::vector<float> values(n);
-  if (!in.read(reinterpret_cast<char*>(values.data()), static_cast<std::streamsize>(n * sizeof(float))))
-    return false;
-  if (payloadHash(values.data(), n) != hd.payload) return false;
-  out.resize(width, height);
-  for (int y = 0; y < height; ++y)
-    std::copy_n(values.data() + static_cast<size_t>(y) * static_cast<size_t>(width), width, out.row(y));
-  return true;
-}
-
-std::optional<std::string> writeGroundTruthCache(const std::filesystem::path& file, uint64_t key,
-                                                 const raster::ImageFloat& image) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::path dir = file.parent_path();
-  if (!dir.empty()) {
-    fs::create_directories(dir, ec);
-    if (ec) return "cannot create directory " + dir.string() + ": " + ec.message();
-  }
-  const std::vector<float> values = image.packed();
-  const Header hd{.version = kFormatVersion,
-                  .width = static_cast<uint32_t>(image.width()),
-                  .height = static_cast<uint32_t>(image.height()),
-                  .zero = 0,
-                  .key = key,
-                  .payload = payloadHash(values.data(), values.size())};
-  char head[kHeaderBytes];
-  encodeHeader(hd, head);
-  // A name no other writer uses (several processes may fill the same cache), hidden from readers,
-  // which look for gt-<key>.bin only.
-  // Process id, thread and time: unique enough, and nothing here can throw.
-  const uint64_t tag = mix64(static_cast<uint64_t>(::getpid()) ^
-                             (static_cast<uint64_t>(std::hash<std::thread::id>{}(std::this_thread::get_id())) << 20) ^
-                             static_cast<uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count()));
-  std::string tmpName = file.filename().string();
-  tmpName.insert(tmpName.begin(), '.');
-  tmpName += '.';
-  tmpName += hex16(tag);
-  tmpName += ".tmp";
-  const fs::path tmp = dir / tmpName;
-  {
-    std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
-    os.write(head, kHeaderBytes);
-    os.write(reinterpret_cast<const char*>(values.data()),
-             static_cast<std::streamsize>(values.size() * sizeof(float)));
-    os.close();
-    if (!os) {
-      fs::remove(tmp, ec);
-      return "cannot write " + tmp.string();
-    }
-  }
-  fs::rename(tmp, file, ec);  // atomic on POSIX within one file system
-  if (ec) {
-    const std::string why = "cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message();
-    fs::remove(tmp, ec);
-    return why;
-  }
-  return std::nullopt;
-}
-
 // ---- The whole computation ----------------------------------------------------------------------
 
 std::string GroundTruthStats::summary() const {
@@ -544,7 +422,7 @@ std::string GroundTruthStats::summary() const {
                 grid.count());
   line = buf;
   if (cacheHit) {
-    line += "; cache hit " + cacheFile.filename().string() + ", nothing traced";
+    line += "; cache hit " + cacheEntry + ", nothing traced";
     return line;
   }
   const double mrays = msTrace > 0 ? static_cast<double>(rays) / (msTrace * 1e3) : 0.0;
@@ -554,10 +432,10 @@ std::string GroundTruthStats::summary() const {
                 packetWidth, msTrace, mrays);
   line += buf;
   if (dropped > 0) line += " (" + std::to_string(dropped) + " non-finite triangles left out)";
-  if (cacheFile.empty())
+  if (cacheEntry.empty())
     line += "; no cache";
   else if (cacheWritten)
-    line += "; cache miss, wrote " + cacheFile.filename().string();
+    line += "; cache miss, wrote " + cacheEntry;
   else
     line += "; cache miss, not written: " + cacheError;
   return line;
@@ -570,16 +448,19 @@ class Job {
  public:
   // Key and cache lookup; on a miss, the scene. In the caller's arena.
   void prepare(const Geometry& casters, const ReceiverImage& receivers, const RectLight& light, int samples,
-               const std::string& cacheDir) {
+               ResultCache* cache) {
     const auto t0 = Clock::now();
     receivers_ = &receivers;
     light_ = light;
+    cache_ = cache;
     stats.grid = sampleGrid(light, samples);
-    if (!cacheDir.empty()) {
+    if (cache) {
       stats.key = groundTruthKey(casters, receivers, light, samples);
-      stats.cacheFile = groundTruthCachePath(cacheDir, stats.key);
-      stats.cacheHit =
-          readGroundTruthCache(stats.cacheFile, stats.key, receivers.width(), receivers.height(), cached_);
+      stats.cacheEntry = cache->name(stats.key);
+      if (std::optional<raster::ImageFloat> hit = cache->load(stats.key, receivers.width(), receivers.height())) {
+        cached_ = std::move(*hit);
+        stats.cacheHit = true;
+      }
     }
     if (!stats.cacheHit) {
       scene_ = std::make_unique<RayScene>(casters);
@@ -601,8 +482,8 @@ class Job {
     stats.receivers = stats.rays / static_cast<uint64_t>(stats.grid.count());
     stats.msTrace = msSince(t0);
     scene_.reset();
-    if (!stats.cacheFile.empty()) {
-      const std::optional<std::string> err = writeGroundTruthCache(stats.cacheFile, stats.key, out);
+    if (cache_) {
+      const std::optional<std::string> err = cache_->store(stats.key, out);
       stats.cacheWritten = !err;
       if (err) stats.cacheError = *err;
     }
@@ -612,6 +493,7 @@ class Job {
 
  private:
   const ReceiverImage* receivers_ = nullptr;
+  ResultCache* cache_ = nullptr;
   RectLight light_;
   std::unique_ptr<RayScene> scene_;
   raster::ImageFloat cached_;
@@ -623,7 +505,7 @@ class Reference final : public Technique {
     const auto t0 = Clock::now();
     const int samples = params.integer("samples");
     ctx.raster.run([&] {
-      job_.prepare(ctx.casterGeometry(), *ctx.in.receivers, ctx.in.light, samples, ctx.in.cacheDir);
+      job_.prepare(ctx.casterGeometry(), *ctx.in.receivers, ctx.in.light, samples, ctx.in.cache);
     });
     ctx.times.msMaps += msSince(t0);
     if (job_.stats.grid.count() != samples)
@@ -648,7 +530,7 @@ GroundTruthStats computeGroundTruth(const Geometry& casters, const ReceiverImage
                                     const RectLight& light, const GroundTruthOptions& options,
                                     raster::ImageFloat& out) {
   Job job;
-  job.prepare(casters, receivers, light, options.samples, options.cacheDir);
+  job.prepare(casters, receivers, light, options.samples, options.cache);
   job.evaluate(out);
   return job.stats;
 }

@@ -26,19 +26,16 @@
 // a penumbra ramp is sqrt(1/6) * N^(-3/4) = 0.41 * N^(-3/4) (tests/shadows/ground_truth_test.cpp
 // measures 0.404 to 0.422 for N = 16 to 4096 against the analytic penumbra).
 //
-// Cache (ShadowInputs::cacheDir): the image is stored in <cacheDir>/gt-<16 hex digits of the key>.bin.
-// The key (groundTruthKey) hashes everything the image depends on; a file is used only when its
-// magic, version, key, size and payload hash all match, and is written to a temporary file in the
-// same directory and renamed into place, so a reader never sees a half-written file. A cache that
-// cannot be written is skipped (and said so in the notes), never an error.
+// Cache (ShadowInputs::cache, result_cache.h): the image is stored under a key (groundTruthKey)
+// that hashes everything it depends on; the engine keeps it in a file that is used only when its
+// magic, version, key, size and payload hash all match (engine/result_cache.h). A cache that cannot
+// be written is skipped (and said so in the notes), never an error.
 //
 // Thread-safety: RayScene is immutable after construction; traceVisibility may be called on one
-// scene from several threads. The other functions are pure (the cache functions touch only their
-// own files).
+// scene from several threads. The other functions are pure (computeGroundTruth uses its cache).
 #pragma once
 
 #include <cstdint>
-#include <filesystem>
 #include <optional>
 #include <string>
 
@@ -54,7 +51,7 @@ namespace penumbra::shadows {
 
 struct GroundTruthOptions {
   int samples = 1024;    // rays per receiver, [1, 65536]; the grid may round it up (sampleGrid)
-  std::string cacheDir;  // "" = no disk cache
+  ResultCache* cache = nullptr;  // null: none
 };
 
 // The stratified grid for `samples` rays on `light`: columns along the width, rows along the
@@ -111,21 +108,6 @@ uint64_t traceVisibility(const RayScene& scene, const ReceiverImage& receivers, 
 uint64_t groundTruthKey(const Geometry& casters, const ReceiverImage& receivers, const RectLight& light,
                         int samples);
 
-// <dir>/gt-<key as 16 lower-case hex digits>.bin
-std::filesystem::path groundTruthCachePath(const std::string& dir, uint64_t key);
-
-// File layout (native byte order, x86-64: little-endian): a 40-byte header
-//     char magic[8] = "PNBRGT\r\n", uint32 version, uint32 width, uint32 height, uint32 zero,
-//     uint64 key, uint64 payload hash,
-// then width * height float32 values, row-major, top row first. Reading returns false (and
-// leaves `out` alone) when the file is missing, short, long, or any field differs.
-bool readGroundTruthCache(const std::filesystem::path& file, uint64_t key, int width, int height,
-                          raster::ImageFloat& out);
-// Writes atomically (temporary file in the same directory, then rename), creating the directory.
-// Returns why it could not (nothing is left behind then), or nothing.
-std::optional<std::string> writeGroundTruthCache(const std::filesystem::path& file, uint64_t key,
-                                                 const raster::ImageFloat& image);
-
 // What computeGroundTruth did.
 struct GroundTruthStats {
   SampleGrid grid;
@@ -134,8 +116,8 @@ struct GroundTruthStats {
   size_t dropped = 0;               // casters left out: a non-finite vertex
   uint64_t receivers = 0;           // receivers traced (valid, in front of the light)
   uint64_t rays = 0;                // rays traced (0 on a cache hit)
-  uint64_t key = 0;                 // 0 when no cache directory was given
-  std::filesystem::path cacheFile;  // "" when no cache directory was given
+  uint64_t key = 0;                 // 0 when no cache was given
+  std::string cacheEntry;           // the cache's name of the key, "" when no cache was given
   bool cacheHit = false, cacheWritten = false;
   std::string cacheError;  // why the cache was not written, or ""
   double msPrepare = 0;    // key, cache lookup, scene build

@@ -25,6 +25,7 @@
 #include "raster/pipeline.h"
 #include "shadows/area_light.h"
 #include "shadows/light_view.h"
+#include "shadows/result_cache.h"
 
 namespace penumbra::shadows {
 
@@ -74,8 +75,8 @@ struct ShadowInputs {
   Geometry casters;                    // world-space triangles that may cast shadows
   const ReceiverImage* receivers = nullptr;
   RectLight light;
-  std::string cacheDir;                // techniques that cache results on disk (the ground truth) use
-                                       // it; "" = no cache
+  ResultCache* cache = nullptr;        // techniques that keep results between runs (the ground truth)
+                                       // use it; null = none
   // Cull triangles outside the light's region (LightRegion). Off only to measure what culling
   // saves: every triangle is drawn, with the same views (near plane and frustum) as with culling.
   bool cullCasters = true;

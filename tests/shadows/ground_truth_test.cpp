@@ -12,6 +12,8 @@
 // occluder and the receiver plane from the light plane).
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -127,10 +129,9 @@ ErrorStats errorAgainstRamp(const raster::ImageFloat& v, const Row& row, double 
 }
 
 raster::ImageFloat trace(const Mesh& mesh, const ReceiverImage& rec, const RectLight& light, int samples,
-                         GroundTruthStats* stats = nullptr, const std::string& cacheDir = "") {
+                         GroundTruthStats* stats = nullptr, ResultCache* cache = nullptr) {
   raster::ImageFloat out;
-  const GroundTruthStats s =
-      computeGroundTruth(mesh.geometry(), rec, light, {.samples = samples, .cacheDir = cacheDir}, out);
+  const GroundTruthStats s = computeGroundTruth(mesh.geometry(), rec, light, {.samples = samples, .cache = cache}, out);
   if (stats) *stats = s;
   return out;
 }
@@ -314,7 +315,7 @@ TEST(GroundTruthErrors, IndexOutOfRangeThrows) {
   raster::ImageFloat out;
   EXPECT_THROW(computeGroundTruth({p, idx}, rec, downLight(1, 1), {}, out), std::invalid_argument);
   EXPECT_THROW(
-      computeGroundTruth({p, {idx.data(), 0}}, rec, downLight(1, 1), {.samples = 0, .cacheDir = ""}, out),
+      computeGroundTruth({p, {idx.data(), 0}}, rec, downLight(1, 1), {.samples = 0, .cache = nullptr}, out),
       std::invalid_argument);
 }
 
@@ -339,7 +340,7 @@ TEST(GroundTruthDeterminism, SameBytesAtOneAndThreeThreads) {
   const Mesh mesh = penumbraMesh(true);
   const ReceiverImage rec = mixedImage();
   ShadowInputs in{
-      .casters = mesh.geometry(), .receivers = &rec, .light = downLight(1.0f, 0.7f), .cacheDir = ""};
+      .casters = mesh.geometry(), .receivers = &rec, .light = downLight(1.0f, 0.7f), .cache = nullptr};
   const TechniqueInfo* ref = findTechnique("reference");
   ASSERT_NE(ref, nullptr);
   ParamSet params(ref->params);
@@ -359,7 +360,7 @@ TEST(GroundTruthDeterminism, SameBytesAtOneAndThreeThreads) {
   // Culling only drops triangles that cannot shadow: the same image as from every caster.
   raster::ImageFloat direct;
   one.run(
-      [&] { computeGroundTruth(mesh.geometry(), rec, in.light, {.samples = 256, .cacheDir = ""}, direct); });
+      [&] { computeGroundTruth(mesh.geometry(), rec, in.light, {.samples = 256, .cache = nullptr}, direct); });
   EXPECT_TRUE(sameBytes(a.visibility, direct));
   ASSERT_FALSE(a.notes.empty());
   // A 1 x 0.7 light: 19 x 14 cells of about 0.053 x 0.05.
@@ -382,96 +383,65 @@ TEST(GroundTruthDeterminism, PacketsAndSingleRaysAgree) {
 
 // ---- Cache --------------------------------------------------------------------------------------
 
-class GroundTruthCache : public ::testing::Test {
- protected:
-  void SetUp() override {
-    std::random_device rd;
-    dir_ =
-        fs::path(::testing::TempDir()) / ("penumbra-gt-" + std::to_string(rd()) + "-" + std::to_string(rd()));
+// Entries in memory; `refuse` makes every store fail.
+class MemoryCache final : public ResultCache {
+ public:
+  std::optional<raster::ImageFloat> load(uint64_t key, int width, int height) override {
+    ++loads;
+    const auto it = entries.find(key);
+    if (it == entries.end() || it->second.width() != width || it->second.height() != height) return std::nullopt;
+    return it->second;
   }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
+  std::optional<std::string> store(uint64_t key, const raster::ImageFloat& image) override {
+    if (refuse) return "refused";
+    entries[key] = image;
+    return std::nullopt;
   }
-  // Files in the cache directory (names).
-  std::vector<std::string> files() const {
-    std::vector<std::string> out;
-    std::error_code ec;
-    for (const auto& e : fs::recursive_directory_iterator(dir_, ec))
-      out.push_back(e.path().filename().string());
-    return out;
-  }
-  fs::path dir_;
+  std::string name(uint64_t key) const override { return "mem-" + std::to_string(key); }
+  std::map<uint64_t, raster::ImageFloat> entries;
+  int loads = 0;
+  bool refuse = false;
 };
 
-TEST_F(GroundTruthCache, HitMissCorruptAndUnwritable) {
+TEST(GroundTruthCache, HitMissAndUnwritable) {
   const Mesh mesh = penumbraMesh(true);
   const Row row = penumbraRow(true, 32, 0.3f, 3);
   const RectLight light = downLight(1, 1);
-  const std::string cache = (dir_ / "nested" / "dir").string();  // created on demand
-
+  MemoryCache cache;
   GroundTruthStats s1, s2;
-  const raster::ImageFloat first = trace(mesh, row.image, light, 64, &s1, cache);
+  const raster::ImageFloat first = trace(mesh, row.image, light, 64, &s1, &cache);
   EXPECT_FALSE(s1.cacheHit);
   EXPECT_TRUE(s1.cacheWritten) << s1.cacheError;
-  EXPECT_EQ(s1.cacheFile, groundTruthCachePath(cache, s1.key));
-  EXPECT_EQ(s1.cacheFile.filename().string().size(), std::string("gt-0123456789abcdef.bin").size());
-  ASSERT_TRUE(fs::is_regular_file(s1.cacheFile));
-  EXPECT_EQ(fs::file_size(s1.cacheFile), 40u + 32u * 3u * 4u);
-  EXPECT_EQ(files().size(), 3u);  // nested, dir, the file: no temporary left
-  const raster::ImageFloat second = trace(mesh, row.image, light, 64, &s2, cache);
+  EXPECT_EQ(s1.cacheEntry, cache.name(s1.key));
+  ASSERT_EQ(cache.entries.size(), 1u);
+  EXPECT_TRUE(sameBytes(cache.entries.at(s1.key), first));
+  const raster::ImageFloat second = trace(mesh, row.image, light, 64, &s2, &cache);
   EXPECT_TRUE(s2.cacheHit);
   EXPECT_EQ(s2.rays, 0u);
+  EXPECT_EQ(s2.triangles, 0u);  // no scene built
   EXPECT_TRUE(sameBytes(first, second));
-  EXPECT_NE(s2.summary().find("cache hit"), std::string::npos) << s2.summary();
-
-  // Truncated: ignored, recomputed, rewritten.
-  fs::resize_file(s1.cacheFile, fs::file_size(s1.cacheFile) - 4);
+  EXPECT_NE(s2.summary().find("cache hit mem-"), std::string::npos) << s2.summary();
+  // Another sample count: another key, another entry.
   GroundTruthStats s3;
-  EXPECT_TRUE(sameBytes(first, trace(mesh, row.image, light, 64, &s3, cache)));
+  trace(mesh, row.image, light, 16, &s3, &cache);
+  EXPECT_NE(s3.key, s1.key);
   EXPECT_FALSE(s3.cacheHit);
-  EXPECT_TRUE(s3.cacheWritten);
-  EXPECT_EQ(fs::file_size(s1.cacheFile), 40u + 32u * 3u * 4u);
-
-  // One payload byte changed: the payload hash catches it.
-  {
-    std::fstream f(s1.cacheFile, std::ios::in | std::ios::out | std::ios::binary);
-    f.seekg(40 + 17 * 4 + 1);
-    const int c = f.get();
-    f.seekp(40 + 17 * 4 + 1);
-    f.put(static_cast<char>(~c));
-  }
+  EXPECT_EQ(cache.entries.size(), 2u);
+  // A cache that cannot store: computed anyway, and said so.
+  MemoryCache refusing;
+  refusing.refuse = true;
   GroundTruthStats s4;
-  EXPECT_TRUE(sameBytes(first, trace(mesh, row.image, light, 64, &s4, cache)));
-  EXPECT_FALSE(s4.cacheHit);
-  raster::ImageFloat read;
-  EXPECT_TRUE(readGroundTruthCache(s1.cacheFile, s1.key, 32, 3, read));
-  EXPECT_TRUE(sameBytes(first, read));
-  EXPECT_FALSE(readGroundTruthCache(s1.cacheFile, s1.key ^ 1, 32, 3, read));  // another key's file
-  EXPECT_FALSE(readGroundTruthCache(s1.cacheFile, s1.key, 31, 3, read));      // another size
-  EXPECT_FALSE(readGroundTruthCache(dir_ / "missing.bin", s1.key, 32, 3, read));
-
-  // Another sample count: another key, another file.
-  GroundTruthStats s5;
-  trace(mesh, row.image, light, 16, &s5, cache);
-  EXPECT_NE(s5.key, s1.key);
-  EXPECT_FALSE(s5.cacheHit);
-  EXPECT_EQ(files().size(), 4u);
-
-  // A cache directory that cannot exist (under a regular file): computed anyway, and said so.
-  const std::string blocked = (fs::path(s1.cacheFile) / "sub").string();
-  GroundTruthStats s6;
-  EXPECT_TRUE(sameBytes(first, trace(mesh, row.image, light, 64, &s6, blocked)));
-  EXPECT_FALSE(s6.cacheWritten);
-  EXPECT_FALSE(s6.cacheError.empty());
-  EXPECT_NE(s6.summary().find("not written"), std::string::npos) << s6.summary();
+  EXPECT_TRUE(sameBytes(first, trace(mesh, row.image, light, 64, &s4, &refusing)));
+  EXPECT_FALSE(s4.cacheWritten);
+  EXPECT_EQ(s4.cacheError, "refused");
+  EXPECT_NE(s4.summary().find("not written: refused"), std::string::npos) << s4.summary();
 }
 
-TEST_F(GroundTruthCache, ThroughTheTechniqueNotes) {
+TEST(GroundTruthCache, ThroughTheTechniqueNotes) {
   const Mesh mesh = penumbraMesh(true);
   const ReceiverImage rec = mixedImage();
-  ShadowInputs in{
-      .casters = mesh.geometry(), .receivers = &rec, .light = downLight(1, 1), .cacheDir = dir_.string()};
+  MemoryCache cache;
+  ShadowInputs in{.casters = mesh.geometry(), .receivers = &rec, .light = downLight(1, 1), .cache = &cache};
   const TechniqueInfo* ref = findTechnique("reference");
   ASSERT_NE(ref, nullptr);
   ParamSet params(ref->params);
@@ -481,8 +451,8 @@ TEST_F(GroundTruthCache, ThroughTheTechniqueNotes) {
   const ShadowResult b = computeShadows(raster, in, *ref, params);
   ASSERT_FALSE(a.notes.empty());
   ASSERT_FALSE(b.notes.empty());
-  EXPECT_NE(a.notes.back().find("cache miss, wrote gt-"), std::string::npos) << a.notes.back();
-  EXPECT_NE(b.notes.back().find("cache hit gt-"), std::string::npos) << b.notes.back();
+  EXPECT_NE(a.notes.back().find("cache miss, wrote mem-"), std::string::npos) << a.notes.back();
+  EXPECT_NE(b.notes.back().find("cache hit mem-"), std::string::npos) << b.notes.back();
   EXPECT_TRUE(sameBytes(a.visibility, b.visibility));
 }
 

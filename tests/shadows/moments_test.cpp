@@ -36,7 +36,7 @@ struct Scene {
     indices.insert(indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
   }
   ShadowInputs inputs() const {
-    return {.casters = {positions, indices}, .receivers = &receivers, .light = light, .cacheDir = ""};
+    return {.casters = {positions, indices}, .receivers = &receivers, .light = light, .cache = nullptr};
   }
 };
 
