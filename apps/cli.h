@@ -1,5 +1,7 @@
 // Shared pieces of the `penumbra` subcommands: errors (one line, exit status 2), option parsing
 // helpers, progress lines.
+// Thread-safety: the command line runs one subcommand on one thread; Progress and ThreadLimit
+// belong to it.
 #pragma once
 
 #include <tbb/global_control.h>

@@ -1,4 +1,5 @@
 // The subcommands and their arguments (filled by CLI11 in main.cpp).
+// Thread-safety: plain argument structs; each run* function runs on the main thread.
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,7 @@
 // The raster stress suite of `penumbra stress`: numerically hard cases, each checked on the fly
 // against what must hold (a closed tessellation covers every pixel exactly once; the nearer of two
 // surfaces wins; nothing non-finite is produced).
+// Thread-safety: runs in the given rasterizer's arena; one suite at a time per rasterizer.
 #pragma once
 
 #include <cstdint>

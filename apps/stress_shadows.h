@@ -4,6 +4,7 @@
 // their occluder, overlapping occluders at very different depths (the light-bleeding case of the
 // moment techniques). Judged: no NaN or Inf and V in [0, 1]. Reported: the light bleeding (largest V
 // where the receiver is in full umbra) and the over-darkening (smallest V where it is fully lit).
+// Thread-safety: runs in the given rasterizer's arena; one suite at a time per rasterizer.
 #pragma once
 
 #include <string>

@@ -5,6 +5,7 @@
 // Judged: each method's samples (what covers them, their depth) equal the reference's bit for bit;
 // no depth outside [0, 1] or NaN; tests never exceed samples x triangles. Reported: time, tests,
 // STE per method.
+// Thread-safety: runs in the given rasterizer's arena; one suite at a time per rasterizer.
 #pragma once
 
 #include <string>

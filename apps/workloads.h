@@ -1,5 +1,6 @@
 // The standard rasterizer workloads W1 (depth-only 2048^2 shadow-map pass) and W2 (shaded 1080p
 // pass) of shared/WORKLOADS.md, on one world-space triangle mesh.
+// Thread-safety: pure functions of their arguments; runWorkload owns its rasterizer.
 #pragma once
 
 #include <glm/mat4x4.hpp>

@@ -1,5 +1,6 @@
 // Built-in procedural scenes: they need no file, so `penumbra render` works on a fresh checkout.
 // Pure functions (each call builds a new Scene).
+// Thread-safety: pure functions; safe from any thread.
 #pragma once
 
 #include <string>

@@ -1,6 +1,7 @@
 // Error values for the boundaries of the library (file loading, scene validation, options).
 // Library code never exits the process: it returns an Error naming where and what; the CLI prints
 // Error::line() and exits with status 2.
+// Thread-safety: plain values.
 #pragma once
 
 #include <string>

@@ -2,7 +2,7 @@
 // itself (images and buffers). Filled by the passes (frame_plan.h, gbuffer_pass.h,
 // stochastic_pass.h, shadow_pass.h, shading.h), read by the command line, the benches and tests.
 //
-// Plain values; a Frame belongs to its caller.
+// Thread-safety: plain values; a Frame belongs to its caller (one writer at a time).
 #pragma once
 
 #include <glm/mat4x4.hpp>

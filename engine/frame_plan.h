@@ -5,7 +5,7 @@
 // nothing visible moves and the camera is a pinhole; with a lens, all of them; otherwise only the
 // moving ones. The plan's text is what --stats prints.
 //
-// Pure functions of the scene and the options; safe from any thread.
+// Thread-safety: pure functions of the scene and the options; safe from any thread.
 #pragma once
 
 #include <glm/mat4x4.hpp>

@@ -4,7 +4,7 @@
 // options; the command line and the benchmarks pass the user's values through unchecked and print
 // the Error; their help text quotes the ranges from the specs below.
 //
-// Plain values; resolveOptions is a pure function, safe from any thread.
+// Thread-safety: plain values; resolveOptions is a pure function, safe from any thread.
 #pragma once
 
 #include <cstdint>

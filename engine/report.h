@@ -3,7 +3,7 @@
 // shortest form that reads back the same, one-line JSON, the Pareto front, and the
 // run-time-against-error plot. Nothing in a report is left unescaped: names come from files.
 //
-// Pure functions; safe from any thread.
+// Thread-safety: pure functions; safe from any thread.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -5,7 +5,7 @@
 // shaded once and the layers are blended by their sample counts (a box filter). Linear color
 // (alpha = coverage) and its sRGB encoding.
 //
-// Rows in parallel in the rasterizer's arena; deterministic.
+// Thread-safety: one frame at a time per rasterizer; rows in parallel in its arena, deterministic.
 #pragma once
 
 #include <vector>

@@ -5,7 +5,7 @@
 // shadow them are culled before their triangles are flattened to world space (at the casters'
 // time), and a light with no caster in reach takes no pass.
 //
-// Runs in the rasterizer's arena.
+// Thread-safety: one frame at a time per rasterizer; runs in its arena.
 #pragma once
 
 #include <vector>

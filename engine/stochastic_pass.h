@@ -9,7 +9,8 @@
 // would shadow itself); a moving surface is looked up where the same surface point is at the
 // casters' time (mid-shutter), so that it is not shadowed by its own mid-shutter copy.
 //
-// Runs in the rasterizer's arena; the per-pixel work happens inside the tiles' tasks.
+// Thread-safety: one frame at a time per rasterizer; runs in its arena, the per-pixel work inside
+// the tiles' tasks.
 #pragma once
 
 #include <vector>

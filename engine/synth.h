@@ -1,6 +1,7 @@
 // The synthetic benchmark mesh `synth N` of shared/WORKLOADS.md: an 8x8 grid of UV spheres, vertex
 // and index order identical to tools/llvmpipe_bench make_synth(), so both tools rasterize the same
 // triangles. Pure function.
+// Thread-safety: a pure function; safe from any thread.
 #pragma once
 
 #include "engine/scene.h"

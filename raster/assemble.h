@@ -14,7 +14,7 @@
 // assembleTriangles runs both steps and setup (setup.h) over a range of a draw's triangles: the
 // front end of one chunk, emitting its set-up triangles in submission order.
 //
-// Pure functions; safe from any thread (assembleTriangles writes only its output chunk).
+// Thread-safety: pure functions; safe from any thread (assembleTriangles writes only its output chunk).
 #pragma once
 
 #include <cstdint>

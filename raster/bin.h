@@ -10,7 +10,7 @@
 // list keeps the submission order of the items. One call bins one chunk; a tile that reads the
 // chunks in index order sees all items in submission order, whatever the scheduling.
 //
-// Pure data and functions; TileBins is a plain value (one writer at a time).
+// Thread-safety: pure functions; TileGrid and TileBins are plain values (one writer at a time).
 #pragma once
 
 #include <cstdint>

@@ -4,7 +4,7 @@
 // Watertightness: a new vertex is always interpolated from the endpoint inside the plane towards
 // the one outside, so the two triangles sharing an edge compute bit-identical vertices on it.
 //
-// Pure functions; safe from any thread.
+// Thread-safety: pure functions; safe from any thread.
 #pragma once
 
 #include "raster/setup.h"

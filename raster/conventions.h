@@ -20,6 +20,8 @@
 //   The depth test is configurable (less or greater; reversed-Z uses greater with a 1 -> 0 range).
 // Varyings: interpolated perspective-correctly: with screen-space barycentrics l_i,
 //   b_i = (l_i / w_i) / sum_k (l_k / w_k).
+//
+// Thread-safety: constants and enums only.
 #pragma once
 
 #include <cstdint>

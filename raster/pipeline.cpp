@@ -20,6 +20,9 @@ Rasterizer::Rasterizer(const RasterConfig& config) : config_(config), arena_(are
   check(config.tileLog2 >= kBlockLog2 && config.tileLog2 <= 10, "tileLog2 must be in [3, 10]");
   check(config.chunkTriangles >= 64 && config.chunkTriangles <= (1 << 20), "chunkTriangles must be in [64, 2^20]");
   check(config.batchChunks >= 0 && config.batchChunks <= (1 << 20), "batchChunks must be in [0, 2^20]");
+  check(isSupportedSimdTarget(config.simd.tile) && isSupportedSimdTarget(config.simd.splat) &&
+            isSupportedSimdTarget(config.simd.taps),
+        "simd targets must be 0 or supported by this CPU (supportedSimdTargets)");
 }
 
 void Rasterizer::checkDraw(const DrawDesc& desc, const DepthTarget& depth) const {
@@ -119,6 +122,7 @@ void Rasterizer::tileStage(const DrawDesc& desc, DepthTarget& depth, FragmentSin
       job.tris = s.tris.data();
       job.count = static_cast<uint32_t>(s.tris.size());
       job.hits = sink ? &s.hits : nullptr;
+      job.simd = config_.simd.tile;
       rasterizeTile(job, st);
       if (sink) sink(user, tIdx, s, *this);
     }

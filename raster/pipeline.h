@@ -40,6 +40,7 @@
 #include "raster/depth_target.h"
 #include "raster/fragment.h"
 #include "raster/setup.h"
+#include "raster/simd.h"
 #include "raster/stats.h"
 #include "raster/tile.h"
 
@@ -55,6 +56,7 @@ struct RasterConfig {
   // screen), which starves threads; measured, 1M triangles per batch is the better trade-off
   // (docs/performance.md). 0 = 512 chunks (1M triangles, 64 MiB). The image never depends on it.
   int batchChunks = 0;         // chunks per batch; 0 or [1, 2^20]
+  SimdChoice simd{};           // SIMD target per kernel family (simd.h); 0s: the best this CPU supports
 };
 
 struct DrawDesc {

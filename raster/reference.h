@@ -1,7 +1,7 @@
 // The reference rasterizer: slow, scalar, obvious. Tests and `penumbra stress` compare the fast
 // pipeline against it. It shares no code with setup.cpp or tile_kernels.cpp on purpose.
 //
-// Pure functions; safe from any thread.
+// Thread-safety: pure functions; safe from any thread.
 #pragma once
 
 #include <cstdint>

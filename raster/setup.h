@@ -2,7 +2,7 @@
 // functions (conventions in raster/conventions.h). Also the per-vertex projection used by the
 // vertex stage and the homogeneous clipper (clip.h) for the triangles that need it.
 //
-// All functions here are pure; safe to call from any thread.
+// Thread-safety: every function here is pure; safe to call from any thread.
 #pragma once
 
 #include <cstdint>

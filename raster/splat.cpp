@@ -32,6 +32,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "raster/conventions.h"
@@ -134,6 +135,14 @@ namespace penumbra::raster {
 HWY_EXPORT(ProjectBatch);
 
 namespace {
+
+using ProjectFn = std::remove_cvref_t<decltype(HWY_DISPATCH_TABLE(ProjectBatch)[0])>;
+
+// The projection of the SIMD target asked for (simd.h).
+ProjectFn projectFor(int64_t simd) {
+  ProjectFn fn = HWY_DISPATCH_TABLE(ProjectBatch)[simdDispatchIndex(simd)];
+  return fn ? fn : HWY_DISPATCH_TABLE(ProjectBatch)[0];
+}
 using namespace splat_detail;
 
 constexpr uint32_t kExpMask = 0x7F800000u;  // exponent all ones: Inf or NaN
@@ -199,7 +208,7 @@ struct ChunkCounts {
 
 // One pass: views [v0, v1) over every chunk.
 void splatPass(std::span<const glm::vec3> points, std::span<const uint32_t> payloads, const std::vector<ViewRows>& rows,
-               size_t v0, size_t v1, bool reversed, bool firstPass, std::vector<ChunkCounts>& counts) {
+               size_t v0, size_t v1, bool reversed, bool firstPass, ProjectFn project, std::vector<ChunkCounts>& counts) {
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "points are read as packed xyz floats");
   const size_t n = points.size();
   const bool atomic = tbb::this_task_arena::max_concurrency() > 1;
@@ -215,7 +224,7 @@ void splatPass(std::span<const glm::vec3> points, std::span<const uint32_t> payl
         const float* xyz = &points[b].x;
         const uint32_t* pay = payloads.empty() ? nullptr : payloads.data() + b;
         for (size_t v = v0; v < v1; ++v) {
-          cc.written += HWY_DYNAMIC_DISPATCH(ProjectBatch)(xyz, m, rows[v], reversed, offsets, depths);
+          cc.written += project(xyz, m, rows[v], reversed, offsets, depths);
           if (atomic) scatter<true>(rows[v].keys, offsets, depths, pay, static_cast<uint32_t>(b), m);
           else scatter<false>(rows[v].keys, offsets, depths, pay, static_cast<uint32_t>(b), m);
         }
@@ -239,7 +248,7 @@ void clearKeys(Image<uint64_t>& keys) {
 }
 
 SplatStats splatPoints(std::span<const glm::vec3> points, std::span<const uint32_t> payloads,
-                       std::span<const SplatView> views, DepthKey key, int viewsPerPass) {
+                       std::span<const SplatView> views, DepthKey key, int viewsPerPass, int64_t simd) {
   const auto t0 = std::chrono::steady_clock::now();
   const size_t n = points.size(), m = views.size();
   if (!payloads.empty() && payloads.size() != n)
@@ -268,7 +277,8 @@ SplatStats splatPoints(std::span<const glm::vec3> points, std::span<const uint32
     const size_t k = viewsPerPass == 0 ? m : static_cast<size_t>(viewsPerPass);
     std::vector<ChunkCounts> counts((n + kSplatChunk - 1) / kSplatChunk);
     for (size_t v0 = 0; v0 < m; v0 += k) {
-      splatPass(points, payloads, rows, v0, std::min(m, v0 + k), key == DepthKey::ReversedZOverW, v0 == 0, counts);
+      splatPass(points, payloads, rows, v0, std::min(m, v0 + k), key == DepthKey::ReversedZOverW, v0 == 0,
+                projectFor(simd), counts);
       ++stats.passes;
     }
     for (const ChunkCounts& c : counts) {
@@ -290,20 +300,22 @@ struct PointSplatter::State {
   };
   std::vector<ViewRows> rows;
   bool reversed = false;
+  ProjectFn project = nullptr;
   tbb::enumerable_thread_specific<Batch> batches;
 
   void write(Batch& b) {
     HWY_ALIGN uint32_t offsets[kBatch];
     HWY_ALIGN uint32_t depths[kBatch];
     for (const ViewRows& r : rows) {
-      HWY_DYNAMIC_DISPATCH(ProjectBatch)(b.xyz, b.n, r, reversed, offsets, depths);
+      project(b.xyz, b.n, r, reversed, offsets, depths);
       scatter<true>(r.keys, offsets, depths, b.payload, 0, b.n);
     }
     b.n = 0;
   }
 };
 
-PointSplatter::PointSplatter(std::span<const SplatView> views, DepthKey key) : state_(new State) {
+PointSplatter::PointSplatter(std::span<const SplatView> views, DepthKey key, int64_t simd) : state_(new State) {
+  state_->project = projectFor(simd);
   for (size_t v = 0; v < views.size(); ++v) {
     const Image<uint64_t>* t = views[v].target;
     if (!t || t->width() < 1 || t->height() < 1 || t->width() > kMaxTargetSize || t->height() > kMaxTargetSize) {

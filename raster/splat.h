@@ -40,9 +40,8 @@
 // the current task arena, so call it through Rasterizer::run to use that rasterizer's threads (a
 // one-thread arena gives the single-threaded mode).
 //
-// The projection runs in SIMD lanes (Highway, best target of the CPU; forceSimdTarget in tile.h
-// restricts it, for tests) with the same float operations on every target, so every target gives
-// the same bits.
+// The projection runs in SIMD lanes (Highway; the target a call names, simd.h, the best by default)
+// with the same float operations on every target, so every target gives the same bits.
 //
 // Thread-safety: pure functions of their arguments. Within splatPoints the targets are written
 // concurrently only through std::atomic_ref (on a one-thread arena, by plain loads and stores);
@@ -56,6 +55,7 @@
 #include <span>
 
 #include "raster/image.h"
+#include "raster/simd.h"
 
 namespace penumbra::raster {
 
@@ -101,8 +101,9 @@ void clearKeys(Image<uint64_t>& keys);
 // not cleared: the call takes the min with what they hold, so several calls accumulate.
 // Throws std::invalid_argument for a payload count other than 0 or N, a null target, a target size
 // outside 1..kMaxTargetSize, or K outside [0, M].
+// simd: the projection's SIMD target (simd.h; 0: the best).
 SplatStats splatPoints(std::span<const glm::vec3> points, std::span<const uint32_t> payloads,
-                       std::span<const SplatView> views, DepthKey key, int viewsPerPass = 0);
+                       std::span<const SplatView> views, DepthKey key, int viewsPerPass = 0, int64_t simd = 0);
 
 // Streaming splats, for producers that emit points one at a time from several threads (a fragment
 // stage: view-warped shadows' unbuffered mode). Points are gathered in a per-thread batch of 256
@@ -112,7 +113,7 @@ SplatStats splatPoints(std::span<const glm::vec3> points, std::span<const uint32
 // called once every add() has returned, by one thread. Payloads are given per point.
 class PointSplatter {
  public:
-  PointSplatter(std::span<const SplatView> views, DepthKey key);
+  PointSplatter(std::span<const SplatView> views, DepthKey key, int64_t simd = 0);
   ~PointSplatter();
   PointSplatter(const PointSplatter&) = delete;
   PointSplatter& operator=(const PointSplatter&) = delete;

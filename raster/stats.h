@@ -1,5 +1,8 @@
 // PassStats: what one pass did and what it skipped. Counters are integers summed from per-chunk and
 // per-tile partial records in a fixed order, so they are identical whatever the thread count.
+//
+// Thread-safety: a plain value type; each pass fills its own records (per chunk, per tile) and
+// sums them on one thread.
 #pragma once
 
 #include <cstdint>

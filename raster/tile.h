@@ -4,8 +4,8 @@
 // otherwise evaluated pixel by pixel in SIMD lanes (exact 32-bit edge values, see
 // tile_kernels.cpp), depth-tested and written.
 //
-// The SIMD code is compiled for every x86 target Highway knows (SSE4, AVX2, AVX-512, ...) and the
-// best one the CPU supports is chosen at run time; tests force each in turn (hwy::SetSupportedTargetsForTest).
+// The SIMD code is compiled for every x86 target Highway knows (SSE4, AVX2, AVX-512, ...) and runs
+// the target TileJob::simd names (simd.h: 0 = the best the CPU supports); tests run each in turn.
 //
 // Thread-safety: rasterizeTile may run concurrently for distinct tiles of the same target.
 #pragma once
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "raster/setup.h"
+#include "raster/simd.h"
 #include "raster/stats.h"
 
 namespace penumbra::raster {
@@ -38,15 +39,10 @@ struct TileJob {
   const SetupTri* const* tris = nullptr;
   uint32_t count = 0;
   std::vector<BlockHit>* hits = nullptr;  // null: depth only
+  int64_t simd = 0;                       // SIMD target (simd.h), 0: the best
 };
 
-// Dispatches to the best SIMD target of this CPU.
+// Runs job.simd's SIMD target.
 void rasterizeTile(const TileJob& job, PassStats& stats);
-
-// Names of the SIMD targets compiled in and supported by this CPU, best first (for reports), and
-// a way to restrict dispatch to one of them (tests; 0 restores the default).
-std::vector<int64_t> supportedSimdTargets();
-const char* simdTargetName(int64_t target);
-void forceSimdTarget(int64_t target);
 
 }  // namespace penumbra::raster

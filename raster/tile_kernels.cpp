@@ -306,13 +306,10 @@ namespace penumbra::raster {
 
 HWY_EXPORT(RasterizeTileImpl);
 
-void rasterizeTile(const TileJob& job, PassStats& stats) { HWY_DYNAMIC_DISPATCH(RasterizeTileImpl)(job, stats); }
-
-std::vector<int64_t> supportedSimdTargets() { return hwy::SupportedAndGeneratedTargets(); }
-
-const char* simdTargetName(int64_t target) { return hwy::TargetName(target); }
-
-void forceSimdTarget(int64_t target) { hwy::SetSupportedTargetsForTest(target); }
+void rasterizeTile(const TileJob& job, PassStats& stats) {
+  auto* fn = HWY_DISPATCH_TABLE(RasterizeTileImpl)[simdDispatchIndex(job.simd)];
+  (fn ? fn : HWY_DISPATCH_TABLE(RasterizeTileImpl)[0])(job, stats);
+}
 
 }  // namespace penumbra::raster
 #endif

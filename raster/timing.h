@@ -1,7 +1,7 @@
 // Wall-clock timing of stages and the median of repeated measurements: the one helper every pass,
 // bench and report uses (times go into stats and reports, never into asserting tests).
 //
-// Pure functions; safe from any thread.
+// Thread-safety: pure functions; safe from any thread.
 #pragma once
 
 #include <algorithm>

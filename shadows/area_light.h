@@ -7,6 +7,8 @@
 // Conventions: world space, right-handed. The light spans center + s*right + t*up for
 // s in [-width/2, width/2], t in [-height/2, height/2]; it emits on the side of normal() =
 // cross(right, up). Light "uv" coordinates (s, t) in [0,1]^2 map to that rectangle.
+//
+// Thread-safety: RectLight is a plain value; the functions are pure, safe from any thread.
 #pragma once
 
 #include <glm/geometric.hpp>

@@ -22,6 +22,8 @@
 //
 // Parameters: map_size, bias, slope_bias, filter_sigma (moments.h), exponent (default 80).
 // docs/techniques/esm.md.
+//
+// Thread-safety: as every technique (technique.h): one thread at a time uses an instance.
 #pragma once
 
 #include "shadows/technique.h"

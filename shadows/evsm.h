@@ -23,6 +23,8 @@
 // Parameters: map_size, bias, slope_bias, filter_sigma (moments.h), exponent_pos (default 40),
 // exponent_neg (evsm4 only, default 5), min_variance (default 1e-7), bleed_reduction (default 0.2).
 // docs/techniques/evsm.md.
+//
+// Thread-safety: as every technique (technique.h): one thread at a time uses an instance.
 #pragma once
 
 #include "shadows/technique.h"

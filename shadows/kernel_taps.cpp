@@ -24,6 +24,8 @@
 
 #include "shadows/kernel_taps.h"
 
+#include "raster/simd.h"
+
 HWY_BEFORE_NAMESPACE();
 namespace penumbra::shadows {
 namespace HWY_NAMESPACE {
@@ -182,19 +184,28 @@ TapPattern::TapPattern(std::span<const glm::vec2> points) : count(static_cast<in
   for (size_t i = 0; i < points.size(); ++i) x[i] = points[i].x, y[i] = points[i].y;
 }
 
+namespace {
+// The entry of a dispatch table for the SIMD target asked for (raster/simd.h).
+template <class Table>
+auto pick(const Table& table, int64_t simd) {
+  auto* fn = table[raster::simdDispatchIndex(simd)];
+  return fn ? fn : table[0];
+}
+}  // namespace
+
 int countLitTaps(const TapMap& map, const TapPlane& plane, const float* px, const float* py, int n, float shiftX,
-                 float shiftY, float cx, float cy, float hx, float hy) {
-  return HWY_DYNAMIC_DISPATCH(CountLitTapsImpl)(map, plane, px, py, n, shiftX, shiftY, cx, cy, hx, hy);
+                 float shiftY, float cx, float cy, float hx, float hy, int64_t simd) {
+  return pick(HWY_DISPATCH_TABLE(CountLitTapsImpl), simd)(map, plane, px, py, n, shiftX, shiftY, cx, cy, hx, hy);
 }
 
 BlockerSum searchBlockers(const TapMap& map, const TapPlane& plane, const float* px, const float* py, int n,
-                          float shiftX, float shiftY, float cx, float cy, float hx, float hy, float znear) {
-  return HWY_DYNAMIC_DISPATCH(SearchBlockersImpl)(map, plane, px, py, n, shiftX, shiftY, cx, cy, hx, hy, znear);
+                          float shiftX, float shiftY, float cx, float cy, float hx, float hy, float znear, int64_t simd) {
+  return pick(HWY_DISPATCH_TABLE(SearchBlockersImpl), simd)(map, plane, px, py, n, shiftX, shiftY, cx, cy, hx, hy, znear);
 }
 
 int countLitRotatedTaps(const TapMap& map, const TapPlane& plane, const float* ox, const float* oy, int n, float c,
-                        float s, float cx, float cy, float texelX, float texelY) {
-  return HWY_DYNAMIC_DISPATCH(CountLitRotatedTapsImpl)(map, plane, ox, oy, n, c, s, cx, cy, texelX, texelY);
+                        float s, float cx, float cy, float texelX, float texelY, int64_t simd) {
+  return pick(HWY_DISPATCH_TABLE(CountLitRotatedTapsImpl), simd)(map, plane, ox, oy, n, c, s, cx, cy, texelX, texelY);
 }
 
 // The scalar references: the loops of pcss.cpp and pcf.cpp before they used the kernels above.
@@ -247,11 +258,6 @@ int countLitRotatedTapsScalar(const TapMap& map, const TapPlane& plane, const fl
   return lit;
 }
 
-std::vector<int64_t> supportedTapTargets() { return hwy::SupportedAndGeneratedTargets(); }
-
-const char* tapTargetName(int64_t target) { return hwy::TargetName(target); }
-
-void forceTapTarget(int64_t target) { hwy::SetSupportedTargetsForTest(target); }
 
 }  // namespace penumbra::shadows
 #endif

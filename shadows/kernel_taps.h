@@ -10,11 +10,12 @@
 // Patterns are separate x[] and y[] arrays readable up to n rounded up to kTapLanes (TapPattern
 // pads them); the lanes past n are computed and not counted.
 //
-// The SIMD code is compiled for every x86 target Highway knows and the best one the CPU supports is
-// chosen at run time; tests force each in turn (forceTapTarget, like raster's forceSimdTarget).
+// The SIMD code is compiled for every x86 target Highway knows; each call runs the target its simd
+// argument names (raster/simd.h: 0 = the best the CPU supports; techniques pass their rasterizer's
+// RasterConfig::simd.taps), so tests run each in turn.
 //
 // Thread-safety: the kernels are pure functions of their arguments (the map is only read) and may
-// run concurrently; forceTapTarget is for tests and must not race with them.
+// run concurrently.
 #pragma once
 
 #include <algorithm>
@@ -78,15 +79,15 @@ struct BlockerSum {
 //     tanX = cx + (2 frac(p.x + shiftX) - 1) hx,  tanY = cy + (2 frac(p.y + shiftY) - 1) hy.
 // countLitTaps: how many pass the depth test (z <= threshold).
 int countLitTaps(const TapMap& map, const TapPlane& plane, const float* px, const float* py, int n, float shiftX,
-                 float shiftY, float cx, float cy, float hx, float hy);
+                 float shiftY, float cx, float cy, float hx, float hy, int64_t simd = 0);
 // searchBlockers: the taps that fail it (z > threshold), with depths znear / z.
 BlockerSum searchBlockers(const TapMap& map, const TapPlane& plane, const float* px, const float* py, int n,
-                          float shiftX, float shiftY, float cx, float cy, float hx, float hy, float znear);
+                          float shiftX, float shiftY, float cx, float cy, float hx, float hy, float znear, int64_t simd = 0);
 // PCF taps: texel offsets o rotated by (c, s) = (cos, sin) of an angle, scaled by the texel size
 // (tanX grows with columns, tanY falls with rows):
 //     tanX = cx + (c o.x - s o.y) texelX,  tanY = cy - (s o.x + c o.y) texelY.
 int countLitRotatedTaps(const TapMap& map, const TapPlane& plane, const float* ox, const float* oy, int n, float c,
-                        float s, float cx, float cy, float texelX, float texelY);
+                        float s, float cx, float cy, float texelX, float texelY, int64_t simd = 0);
 
 // The scalar references: the same results, one tap at a time (no padding needed).
 int countLitTapsScalar(const TapMap& map, const TapPlane& plane, const float* px, const float* py, int n,
@@ -96,11 +97,5 @@ BlockerSum searchBlockersScalar(const TapMap& map, const TapPlane& plane, const 
 int countLitRotatedTapsScalar(const TapMap& map, const TapPlane& plane, const float* ox, const float* oy, int n,
                               float c, float s, float cx, float cy, float texelX, float texelY);
 
-// The SIMD targets compiled in and supported by this CPU, best first, their names, and a way to
-// restrict dispatch to one of them (tests; 0 restores the default). Highway's target mask is
-// process-wide: forcing a target here forces it for raster's kernels too (raster/tile.h).
-std::vector<int64_t> supportedTapTargets();
-const char* tapTargetName(int64_t target);
-void forceTapTarget(int64_t target);
 
 }  // namespace penumbra::shadows

@@ -15,6 +15,9 @@
 // Depth is reversed and infinite: clip z = near, w = depth along the axis, so the stored value
 // z/w = near / depth (1 at the near plane, towards 0 far away, DepthFunc::Greater, cleared to 0 =
 // nothing there): float keeps a uniform relative precision at every distance.
+//
+// Thread-safety: LightRegion, LightView and CasterSet are plain values, read from any thread once
+// made; fitRegion and cullCasters run TBB loops in the caller's arena and write only their result.
 #pragma once
 
 #include <algorithm>

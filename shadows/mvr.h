@@ -4,6 +4,8 @@
 // makes it the accurate rasterized baseline. Memory stays at one map: each map is rendered, then
 // every receiver's lit count is incremented, then the next map reuses the buffers; map rendering
 // counts as "maps", the per-map lookups as "evaluate". docs/techniques/mvr.md.
+//
+// Thread-safety: as every technique (technique.h): one thread at a time uses an instance.
 #pragma once
 
 #include "shadows/technique.h"

@@ -81,6 +81,7 @@ class Pcf final : public Technique {
     const float tapCount = static_cast<float>(offsets_.count);
     const TapMap taps = map_.tapMap();
     const glm::vec2 box = radius_ * texel;
+    const int64_t simd = ctx.raster.config().simd.taps;
     SkipCounter skipped;
     forEachReceiver(ctx, visibility, [&](int x, int y, const Receiver& r) {
       const ReceiverPlane plane(view, view.toView(r.position), r.normal, bias_);
@@ -100,7 +101,7 @@ class Pcf final : public Technique {
       }
       // Offsets o rotated by (c, s), in texels: tap at centre + (c o.x - s o.y, -(s o.x + c o.y)) * texel.
       const int lit = countLitRotatedTaps(taps, plane.tapPlane(), offsets_.x.data(), offsets_.y.data(), offsets_.count,
-                                          c, s, plane.tanX(), plane.tanY(), texel.x, texel.y);
+                                          c, s, plane.tanX(), plane.tanY(), texel.x, texel.y, simd);
       return static_cast<float>(lit) / tapCount;  // exactly 1 when every tap passes (n * (1/n) may not be)
     });
     ctx.times.msEvaluate += msSince(t0);

@@ -5,6 +5,8 @@
 // which trades the grid's banding for noise. Comparisons use the receiver-plane depth at each tap.
 // The penumbra width is fixed (radius texels at every distance): no contact hardening.
 // docs/techniques/pcf.md.
+//
+// Thread-safety: as every technique (technique.h): one thread at a time uses an instance.
 #pragma once
 
 #include <vector>

@@ -42,6 +42,7 @@ class Pcss final : public Technique {
     const glm::vec2 halfLight(0.5f * ctx.in.light.width, 0.5f * ctx.in.light.height);
     const float znear = view.znear;
     const TapMap taps = map_.tapMap();
+    const int64_t simd = ctx.raster.config().simd.taps;
     SkipCounter skipped, filterSkipped;
     forEachReceiver(ctx, visibility, [&](int x, int y, const Receiver& r) {
       const ReceiverPlane plane(view, view.toView(r.position), r.normal, bias_);
@@ -60,7 +61,7 @@ class Pcss final : public Technique {
       }
       const BlockerSum blockers = searchBlockers(taps, tapPlane, blocker_.x.data(), blocker_.y.data(), blocker_.count,
                                                  shift.x, shift.y, plane.tanX(), plane.tanY(), search.x, search.y,
-                                                 znear);
+                                                 znear, simd);
       if (blockers.count == 0) return 1.0f;
       // 2. Penumbra estimate from the average blocker depth.
       const float db = static_cast<float>(blockers.sum / blockers.count);
@@ -74,7 +75,7 @@ class Pcss final : public Technique {
         return box == BoxTest::AllLit ? 1.0f : 0.0f;
       }
       const int lit = countLitTaps(taps, tapPlane, filter_.x.data(), filter_.y.data(), filter_.count, shift.x, shift.y,
-                                   plane.tanX(), plane.tanY(), filter.x, filter.y);
+                                   plane.tanX(), plane.tanY(), filter.x, filter.y, simd);
       return static_cast<float>(lit) / static_cast<float>(filter_.count);
     });
     ctx.times.msEvaluate += msSince(t0);

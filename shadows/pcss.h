@@ -12,6 +12,8 @@
 // (Cranley-Patterson rotation by a hash of the pixel). Fails where its planar-blocker assumption
 // fails: occluder fusion (blockers at several depths are averaged) and thin occluders the sparse
 // blocker search misses. docs/techniques/pcss.md.
+//
+// Thread-safety: as every technique (technique.h): one thread at a time uses an instance.
 #pragma once
 
 #include "shadows/technique.h"

@@ -1,6 +1,7 @@
 // Counter-based random numbers and low-discrepancy point sets for the shadow techniques and the
 // ground truth. No global state: every value is a pure function of its counters, so results do not
 // depend on thread count or scheduling (DESIGN.md, "Determinism").
+// Thread-safety: pure functions; safe from any thread.
 #pragma once
 
 #include <cstdint>

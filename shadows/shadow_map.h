@@ -6,6 +6,10 @@
 // Bias: a receiver at view depth d whose normal makes angle theta with the ray from the view origin
 // spans about texelWorld(d) * tan(theta) of depth inside one texel, so it is compared as
 //     lit  <=>  occluderDepth >= d - texelWorld(d) * (bias + slope_bias * min(tan(theta), 10)).
+//
+// Thread-safety: a ShadowMap is written by one thread (rendered, then prepareLookup) and then read
+// from any number of threads; the other types here are values or pure functions, SkipCounter adds
+// per thread.
 #pragma once
 
 #include <tbb/enumerable_thread_specific.h>
@@ -21,9 +25,23 @@
 
 namespace penumbra::shadows {
 
+// A depth map and the constants of its lookups. It caches a pointer into its own depth image, so
+// it cannot be copied (a copy would read the original's texels); a move carries the image and
+// derives the pointer again.
 struct ShadowMap {
   LightView view;
   raster::DepthTarget depth;
+
+  ShadowMap() = default;
+  ShadowMap(const ShadowMap&) = delete;
+  ShadowMap& operator=(const ShadowMap&) = delete;
+  ShadowMap(ShadowMap&& o) noexcept : view(o.view), depth(std::move(o.depth)) { relink(o); }
+  ShadowMap& operator=(ShadowMap&& o) noexcept {
+    view = o.view;
+    depth = std::move(o.depth);
+    relink(o);
+    return *this;
+  }
 
   // Call after rendering (renderDepthMap does): caches the lookup constants.
   void prepareLookup();
@@ -43,6 +61,13 @@ struct ShadowMap {
   TapMap tapMap() const { return {data_, static_cast<int32_t>(stride_), ax_, bx_, ay_, by_, maxX_, maxY_}; }
 
  private:
+  // After a move: the lookup constants of `o`, the pointer into this map's own image.
+  void relink(ShadowMap& o) {
+    const bool prepared = o.data_ != nullptr;
+    stride_ = o.stride_, ax_ = o.ax_, bx_ = o.bx_, ay_ = o.ay_, by_ = o.by_, maxX_ = o.maxX_, maxY_ = o.maxY_;
+    data_ = prepared ? &depth.image().at(0, 0) : nullptr;
+    o.data_ = nullptr;
+  }
   const float* data_ = nullptr;
   size_t stride_ = 0;
   float ax_ = 0, bx_ = 0, ay_ = 0, by_ = 0, maxX_ = 0, maxY_ = 0;

@@ -1,4 +1,6 @@
 // Template definitions for technique.h.
+// Thread-safety: as forEachReceiver's declaration (technique.h): rows in parallel, f called from
+// several threads for distinct texels.
 #pragma once
 
 #include <tbb/blocked_range.h>

@@ -11,6 +11,8 @@
 //
 // Parameters: map_size, bias, slope_bias, filter_sigma (moments.h), min_variance (default 1e-5,
 // normalized depth^2), bleed_reduction (default 0.2).
+//
+// Thread-safety: as every technique (technique.h): one thread at a time uses an instance.
 #pragma once
 
 #include "shadows/technique.h"

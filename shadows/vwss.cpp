@@ -105,7 +105,9 @@ class Vwss final : public Technique {
       const std::span<const raster::SplatView> pass(views.data(), static_cast<size_t>(count));
       if (buffered_) {
         raster::SplatStats st;
-        ctx.raster.run([&] { st = raster::splatPoints(cloud_, payload_, pass, raster::DepthKey::ReversedZOverW, 0); });
+        ctx.raster.run([&] {
+          st = raster::splatPoints(cloud_, payload_, pass, raster::DepthKey::ReversedZOverW, 0, ctx.raster.config().simd.splat);
+        });
         written += st.written;
       } else {
         generated = generatePoints(ctx, &pass);
@@ -150,10 +152,12 @@ class Vwss final : public Technique {
       cloud_ = std::move(lp.points);
       payload_ = std::move(lp.payloads);
       if (pass)
-        ctx.raster.run([&] { raster::splatPoints(cloud_, payload_, *pass, raster::DepthKey::ReversedZOverW, 0); });
+        ctx.raster.run([&] {
+          raster::splatPoints(cloud_, payload_, *pass, raster::DepthKey::ReversedZOverW, 0, ctx.raster.config().simd.splat);
+        });
       return cloud_.size();
     }
-    raster::PointSplatter splatter(*pass, raster::DepthKey::ReversedZOverW);
+    raster::PointSplatter splatter(*pass, raster::DepthKey::ReversedZOverW, ctx.raster.config().simd.splat);
     const uint32_t w = static_cast<uint32_t>(source_.width);
     ctx.mapPasses += drawSource(ctx.raster, ctx.casterGeometry(), source_, true, sourceCull(cullBack_), [&](const raster::Fragment& f) {
       splatter.add(glm::vec3(f.varyings[0], f.varyings[1], f.varyings[2]),

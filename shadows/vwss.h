@@ -26,6 +26,9 @@
 //
 // Timing: point generation, splatting and resolving count as "maps" (JSON ms_maps), lookups as
 // "evaluate". docs/techniques/vwss.md.
+//
+// Thread-safety: as every technique (technique.h): one thread at a time uses an instance;
+// generateLightPoints runs in the rasterizer's arena and writes only its result.
 #pragma once
 
 #include <glm/vec3.hpp>

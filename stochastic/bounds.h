@@ -17,7 +17,7 @@
 //
 // A margin of 1/64 pixel covers snapping (1/512 pixel) and float rounding; tests compare every
 // method with testing every sample of the screen (StochasticConfig::exhaustive).
-// Pure functions; safe from any thread.
+// Thread-safety: pure functions; safe from any thread.
 #pragma once
 
 #include <glm/vec4.hpp>

@@ -18,7 +18,7 @@
 // rule at the pixel centre as the tile stage (raster::coversPixel). The result equals the main pipeline's coverage of the triangle
 // clipAt(t, u, v) at that pixel, bit for bit (tests/stochastic/coverage_test.cpp checks it).
 //
-// Pure functions; safe from any thread.
+// Thread-safety: pure functions; safe from any thread.
 #pragma once
 
 #include <cstdint>

@@ -2,7 +2,7 @@
 // (a box filter), largest count first, each with a representative sample (the median one in time
 // of the samples it holds). The engine shades each surface once and blends them by their counts.
 //
-// Pure functions; safe from any thread.
+// Thread-safety: pure functions; safe from any thread.
 #pragma once
 
 #include <cstdint>

@@ -15,7 +15,7 @@
 // coverage test shared by all of them), and a frame with no motion and a pinhole is the ordinary
 // frame bit for bit. Spatial antialiasing is not this module's subject.
 //
-// Pure functions; safe from any thread.
+// Thread-safety: pure functions; safe from any thread.
 #pragma once
 
 #include <cmath>

@@ -7,7 +7,8 @@
 // boundaries are one array of floats that both the footprints' domains and the samples' membership
 // use, so a sample at a boundary belongs to exactly one stratum, whose domain holds it.
 //
-// Pure functions and plain values; setupTriangles runs TBB loops in the caller's arena.
+// Thread-safety: pure functions and plain values; setupTriangles runs TBB loops in the caller's
+// arena and writes only its output.
 #pragma once
 
 #include <cstdint>

@@ -1,7 +1,7 @@
 // StochasticStats: what one stochastic pass did and what it saved. Counters are integers summed
 // from per-tile records in tile order (the same at any thread count); times are wall clock.
 //
-// Plain value type; no shared state.
+// Thread-safety: a plain value type, no shared state (one writer at a time).
 #pragma once
 
 #include <cstdint>

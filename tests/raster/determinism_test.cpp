@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <thread>
 #include <tbb/global_control.h>
 
 #include "tests/raster/test_util.h"
@@ -37,8 +38,12 @@ Soup randomSoup(int tris, uint64_t seed) {
 
 // Renders color (RGBA8) and depth; returns the bytes of both.
 std::vector<uint8_t> render(const Soup& s, int threads, int tileLog2, int chunk, PassStats* stats = nullptr,
-                            int batchChunks = 0) {
-  Rasterizer r({.threads = threads, .tileLog2 = tileLog2, .chunkTriangles = chunk, .batchChunks = batchChunks});
+                            int batchChunks = 0, int64_t tileTarget = 0) {
+  Rasterizer r({.threads = threads,
+                .tileLog2 = tileLog2,
+                .chunkTriangles = chunk,
+                .batchChunks = batchChunks,
+                .simd = {.tile = tileTarget}});
   DepthTarget depth(kW, kH, 1.0f);
   ImageRgba8 color(kW, kH);
   DrawDesc d;
@@ -76,12 +81,31 @@ TEST(Determinism, ByteIdenticalAcrossSimdTargets) {
   const Soup s = randomSoup(3000, 43);
   std::vector<uint8_t> first;
   for (int64_t t : supportedSimdTargets()) {
-    forceSimdTarget(t);
-    const auto img = render(s, 2, 6, 512);
+    const auto img = render(s, 2, 6, 512, nullptr, 0, t);
     if (first.empty()) first = img;
     EXPECT_EQ(img, first) << simdTargetName(t);
   }
-  forceSimdTarget(0);
+}
+
+// The target is the rasterizer's, not the process's: rasterizers on different targets run side
+// by side, each gives the same bytes, and a target this CPU cannot run is refused.
+TEST(Determinism, SimdChoiceBelongsToTheRasterizer) {
+  const std::vector<int64_t> targets = supportedSimdTargets();
+  ASSERT_FALSE(targets.empty());
+  const Soup s = randomSoup(2000, 47);
+  const auto best = render(s, 2, 6, 512);
+  const int64_t slowest = targets.back();
+  std::vector<uint8_t> a, b;
+  std::thread other([&] { a = render(s, 1, 6, 512, nullptr, 0, slowest); });
+  b = render(s, 1, 6, 512, nullptr, 0, targets.front());
+  other.join();
+  EXPECT_EQ(a, best);
+  EXPECT_EQ(b, best);
+  EXPECT_THROW(Rasterizer({.simd = {.tile = 3}}), std::invalid_argument);  // two targets at once
+  EXPECT_THROW(Rasterizer({.simd = {.taps = -1}}), std::invalid_argument);
+  // Dispatch by index runs the target asked for (the index serves every kernel family's table).
+  for (int64_t t : targets) EXPECT_EQ(simdTargetRun(t), t) << simdTargetName(t);
+  EXPECT_EQ(simdTargetRun(0), targets.front());
 }
 
 TEST(Determinism, ChunkSizeDoesNotChangeTheImage) {

@@ -17,18 +17,11 @@
 #include "shadows/pcf.h"
 #include "shadows/sampling.h"
 #include "shadows/shadow_map.h"
+#include "raster/simd.h"
 #include "shadows/technique.h"
 
 namespace penumbra::shadows {
 namespace {
-
-// Restores dispatch to the best target when a test ends, failed or not.
-struct ForcedTarget {
-  explicit ForcedTarget(int64_t t) { forceTapTarget(t); }
-  ~ForcedTarget() { forceTapTarget(0); }
-  ForcedTarget(const ForcedTarget&) = delete;
-  ForcedTarget& operator=(const ForcedTarget&) = delete;
-};
 
 uint64_t bits(double v) { return std::bit_cast<uint64_t>(v); }
 uint32_t bits(float v) { return std::bit_cast<uint32_t>(v); }
@@ -76,7 +69,7 @@ TapPlane randomPlane(std::mt19937& rng) {
 }
 
 TEST(KernelTaps, EveryTargetMatchesTheScalarReference) {
-  const std::vector<int64_t> targets = supportedTapTargets();
+  const std::vector<int64_t> targets = raster::supportedSimdTargets();
   ASSERT_FALSE(targets.empty());
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(0.0f, 1.0f), centre(-1.3f, 1.3f), offset(-8.0f, 8.0f);
@@ -125,15 +118,14 @@ TEST(KernelTaps, EveryTargetMatchesTheScalarReference) {
     withBlockers += blockers.count > 1;
 
     for (int64_t target : targets) {
-      SCOPED_TRACE(tapTargetName(target));
-      const ForcedTarget forced(target);
-      ASSERT_EQ(countLitTaps(map, plane, pattern.x.data(), pattern.y.data(), n, shiftX, shiftY, cx, cy, hx, hy), lit)
+      SCOPED_TRACE(raster::simdTargetName(target));
+      ASSERT_EQ(countLitTaps(map, plane, pattern.x.data(), pattern.y.data(), n, shiftX, shiftY, cx, cy, hx, hy, target), lit)
           << "iteration " << iter << ", n " << n;
       const BlockerSum b = searchBlockers(map, plane, pattern.x.data(), pattern.y.data(), n, shiftX, shiftY, cx, cy, hx,
-                                          hy, znear);
+                                          hy, znear, target);
       ASSERT_EQ(b.count, blockers.count) << "iteration " << iter;
       ASSERT_EQ(bits(b.sum), bits(blockers.sum)) << "iteration " << iter << ": " << b.sum << " vs " << blockers.sum;
-      ASSERT_EQ(countLitRotatedTaps(map, plane, offsets.x.data(), offsets.y.data(), n, c, s, cx, cy, texelX, texelY),
+      ASSERT_EQ(countLitRotatedTaps(map, plane, offsets.x.data(), offsets.y.data(), n, c, s, cx, cy, texelX, texelY, target),
                 litRotated)
           << "iteration " << iter;
     }
@@ -166,7 +158,7 @@ float firstAbove(float lo, float hi, F above) {
 // a tap that reads them or the next float above it. A fused multiply-add, another clamp or another
 // order of operations anywhere in a tap's computation changes some of these taps' results.
 TEST(KernelTaps, TapsOnTexelEdgesAndThresholdsMatch) {
-  const std::vector<int64_t> targets = supportedTapTargets();
+  const std::vector<int64_t> targets = raster::supportedSimdTargets();
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   int mixed = 0, edges = 0;
@@ -229,15 +221,14 @@ TEST(KernelTaps, TapsOnTexelEdgesAndThresholdsMatch) {
                                                      texelX, texelY);
     mixed += lit > n / 4 && lit < 3 * n / 4 && litRotated > n / 4 && litRotated < 3 * n / 4;
     for (int64_t target : targets) {
-      SCOPED_TRACE(tapTargetName(target));
-      const ForcedTarget forced(target);
-      ASSERT_EQ(countLitTaps(map, plane, pattern.x.data(), pattern.y.data(), n, shiftX, shiftY, cx, cy, hx, hy), lit)
+      SCOPED_TRACE(raster::simdTargetName(target));
+      ASSERT_EQ(countLitTaps(map, plane, pattern.x.data(), pattern.y.data(), n, shiftX, shiftY, cx, cy, hx, hy, target), lit)
           << "iteration " << iter;
       const BlockerSum b = searchBlockers(map, plane, pattern.x.data(), pattern.y.data(), n, shiftX, shiftY, cx, cy, hx,
-                                          hy, znear);
+                                          hy, znear, target);
       ASSERT_EQ(b.count, blockers.count) << "iteration " << iter;
       ASSERT_EQ(bits(b.sum), bits(blockers.sum)) << "iteration " << iter;
-      ASSERT_EQ(countLitRotatedTaps(map, plane, offsets.x.data(), offsets.y.data(), n, c, s, cx, cy, texelX, texelY),
+      ASSERT_EQ(countLitRotatedTaps(map, plane, offsets.x.data(), offsets.y.data(), n, c, s, cx, cy, texelX, texelY, target),
                 litRotated)
           << "iteration " << iter;
     }
@@ -259,10 +250,9 @@ TEST(KernelTaps, TapPatternPadsWithUncountedZeros) {
   const float texel = 1.0f;
   const TapMap map{.data = &texel, .stride = 8, .ax = 1, .bx = 0, .ay = 1, .by = 0, .maxX = 0, .maxY = 0};
   const TapPlane plane{.a = 0, .b = 0, .c = 0.5f, .lo = 0.1f, .hi = 1.0f, .scale = 1.0f};
-  for (int64_t target : supportedTapTargets()) {
-    const ForcedTarget forced(target);
-    EXPECT_EQ(countLitTaps(map, plane, p.x.data(), p.y.data(), p.count, 0, 0, 0, 0, 1, 1), 0);
-    const BlockerSum b = searchBlockers(map, plane, p.x.data(), p.y.data(), p.count, 0, 0, 0, 0, 1, 1, 0.5f);
+  for (int64_t target : raster::supportedSimdTargets()) {
+    EXPECT_EQ(countLitTaps(map, plane, p.x.data(), p.y.data(), p.count, 0, 0, 0, 0, 1, 1, target), 0);
+    const BlockerSum b = searchBlockers(map, plane, p.x.data(), p.y.data(), p.count, 0, 0, 0, 0, 1, 1, 0.5f, target);
     EXPECT_EQ(b.count, 3);
     EXPECT_EQ(b.sum, 1.5);
   }
@@ -435,8 +425,10 @@ struct Scene {
   }
 };
 
-raster::ImageFloat render(const TechniqueInfo& info, const Scene& scene, const std::string& params) {
-  raster::Rasterizer raster({.threads = 2});
+// The technique's V with its tap kernels on one SIMD target (0: the best), the tile stage on the
+// best: the target of one kernel family is the rasterizer's to choose, family by family.
+raster::ImageFloat render(const TechniqueInfo& info, const Scene& scene, const std::string& params, int64_t taps = 0) {
+  raster::Rasterizer raster({.threads = 2, .simd = {.taps = taps}});
   ParamSet p(info.params);
   EXPECT_FALSE(p.setAll(params)) << params;
   return computeShadows(raster, scene.in, info, p).visibility;
@@ -461,7 +453,7 @@ TEST(KernelTaps, PcssAndPcfImagesMatchTheScalarLoopsOnEveryTarget) {
       {findTechnique("pcf"), &scalarPcf, "map_size=128,kernel=grid,taps=49,radius=3"},
       {findTechnique("pcf"), &scalarPcf, "map_size=64,bias=40,slope_bias=40,minmax=off"},
   };
-  const std::vector<int64_t> targets = supportedTapTargets();
+  const std::vector<int64_t> targets = raster::supportedSimdTargets();
   for (const Case& c : cases) {
     SCOPED_TRACE(c.fast->name + " " + c.params);
     const raster::ImageFloat reference = render(*c.scalar, scene, c.params);
@@ -476,9 +468,8 @@ TEST(KernelTaps, PcssAndPcfImagesMatchTheScalarLoopsOnEveryTarget) {
     EXPECT_GT(partial, 50);
     EXPECT_GT(dark, 20);
     for (int64_t target : targets) {
-      SCOPED_TRACE(tapTargetName(target));
-      const ForcedTarget forced(target);
-      const raster::ImageFloat v = render(*c.fast, scene, c.params);
+      SCOPED_TRACE(raster::simdTargetName(target));
+      const raster::ImageFloat v = render(*c.fast, scene, c.params, target);
       for (int j = 0; j < Scene::kH; ++j)
         for (int i = 0; i < Scene::kW; ++i)
           ASSERT_EQ(bits(v.at(i, j)), bits(reference.at(i, j))) << "at " << i << "," << j << ": " << v.at(i, j)

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <type_traits>
 
 #include "shadows/area_light.h"
 #include "shadows/light_view.h"
@@ -197,6 +198,32 @@ TEST(LightView, ReceiverPlaneDepth) {
   const float z = edge.threshold(edge.tanX() + 5.0f, edge.tanY());
   EXPECT_GE(z, v.znear / (2.0f * v.toView(p).z) * 0.999f);
   EXPECT_LE(z, 2.0f * v.znear / v.toView(p).z * 1.001f);
+}
+
+}  // namespace
+}  // namespace penumbra::shadows
+
+namespace penumbra::shadows {
+namespace {
+
+// A ShadowMap caches a pointer into its own image: it cannot be copied, and a moved map reads
+// its own texels (the image it now holds), not the moved-from one's.
+TEST(ShadowMapOwnership, NotCopyableAndAMovedMapReadsItsOwnTexels) {
+  static_assert(!std::is_copy_constructible_v<ShadowMap> && !std::is_copy_assignable_v<ShadowMap>);
+  static_assert(std::is_nothrow_move_constructible_v<ShadowMap>);
+  ShadowMap a;
+  a.view.width = a.view.height = 4;  // tangents [-1, 1]^2 over 4 x 4 texels
+  a.depth.resize(4, 4, 0.5f);
+  a.prepareLookup();
+  ShadowMap b(std::move(a));
+  b.depth.image().at(3, 0) = 0.25f;  // top right: tan x > 0.5, tan y > 0.5
+  EXPECT_EQ(b.stored(0.9f, 0.9f), 0.25f);
+  EXPECT_EQ(b.stored(-0.9f, -0.9f), 0.5f);
+  ShadowMap c;
+  c = std::move(b);
+  c.depth.image().at(0, 3) = 0.125f;
+  EXPECT_EQ(c.stored(-0.9f, -0.9f), 0.125f);
+  EXPECT_EQ(c.tapMap().data, &c.depth.image().at(0, 0));
 }
 
 }  // namespace
