@@ -34,6 +34,20 @@ inline void require(const engine::Status& st) {
   if (!st) fail(st.error());
 }
 inline void require(const engine::OptionSpec& spec, double value) { require(spec.check(value)); }
+// The benches' own options (their help quotes these ranges).
+inline constexpr engine::OptionSpec kBenchWidthOption{"--width", 16, 4096};
+inline constexpr engine::OptionSpec kBenchHeightOption{"--height", 16, 4096};
+inline constexpr engine::OptionSpec kBenchRunsOption{"--runs", 1, 100};
+inline constexpr engine::OptionSpec kGtSamplesOption{"--gt-samples", 1, 65536};
+inline constexpr engine::OptionSpec kRefFramesOption{"--ref-frames", 1, 65536};
+// The image size, runs and threads every image bench takes.
+inline void requireBenchBasics(int width, int height, int runs, int threads) {
+  require(kBenchWidthOption, width);
+  require(kBenchHeightOption, height);
+  require(kBenchRunsOption, runs);
+  require(engine::kThreadsOption, threads);
+}
+
 // The options resolved by the engine, or a UsageError naming the bad one.
 engine::ResolvedOptions resolveOrFail(const engine::RenderOptions& options);
 

@@ -72,11 +72,8 @@ Timed timedRender(engine::Renderer& renderer, const engine::Scene& scene, const 
 
 int runBenchShadows(const BenchShadowsArgs& a) {
   // Validate everything before any work.
-  if (a.width < 16 || a.width > 4096 || a.height < 16 || a.height > 4096)
-    fail("option --width/--height", "must be in [16, 4096]");
-  if (a.runs < 1 || a.runs > 100) fail("option --runs", "must be in [1, 100]");
-  if (a.gtSamples < 1 || a.gtSamples > 65536) fail("option --gt-samples", "must be in [1, 65536]");
-  require(engine::kThreadsOption, a.threads);
+  requireBenchBasics(a.width, a.height, a.runs, a.threads);
+  require(kGtSamplesOption, a.gtSamples);
   std::vector<std::string> sceneNames = a.scenes;
   if (sceneNames.empty()) sceneNames = {"contact", "fusion", "thin", "complex", "biglight"};
   std::vector<std::pair<std::string, engine::Scene>> scenes;

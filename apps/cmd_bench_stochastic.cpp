@@ -145,11 +145,8 @@ std::string sceneHtml(const std::string& name, int refFrames, double refMs, cons
 }  // namespace
 
 int runBenchStochastic(const BenchStochasticArgs& a) {
-  if (a.width < 16 || a.width > 4096 || a.height < 16 || a.height > 4096)
-    fail("option --width/--height", "must be in [16, 4096]");
-  if (a.runs < 1 || a.runs > 100) fail("option --runs", "must be in [1, 100]");
-  if (a.refFrames < 1 || a.refFrames > 65536) fail("option --ref-frames", "must be in [1, 65536]");
-  require(engine::kThreadsOption, a.threads);
+  requireBenchBasics(a.width, a.height, a.runs, a.threads);
+  require(kRefFramesOption, a.refFrames);
   std::vector<int> spps = a.spp.empty() ? std::vector<int>{4, 16, 64} : a.spp;
   for (int s : spps) require(engine::kSppOption, s);
   std::vector<stochastic::BoundMethod> methods;

@@ -85,10 +85,12 @@ int main(int argc, char** argv) {
   bs->add_option("--scene", benchShadows.scenes, "Built-in scene or scene file (repeatable; default the five bench scenes)");
   bs->add_option("--technique", benchShadows.techniques, "Technique to run with its bench settings (repeatable; default all)");
   bs->add_option("--setting", benchShadows.settings, "Extra setting technique:name=value,... (repeatable)");
-  bs->add_option("--width", benchShadows.width, "Image width [16, 4096] (default 480)");
-  bs->add_option("--height", benchShadows.height, "Image height [16, 4096] (default 270)");
-  bs->add_option("--runs", benchShadows.runs, "Timed runs per setting; medians are reported (default 3)");
-  bs->add_option("--gt-samples", benchShadows.gtSamples, "Ground-truth rays per receiver (default 1024)");
+  bs->add_option("--width", benchShadows.width, "Image width " + kBenchWidthOption.range() + " (default 480)");
+  bs->add_option("--height", benchShadows.height, "Image height " + kBenchHeightOption.range() + " (default 270)");
+  bs->add_option("--runs", benchShadows.runs,
+                 "Timed runs per setting " + kBenchRunsOption.range() + "; medians are reported (default 3)");
+  bs->add_option("--gt-samples", benchShadows.gtSamples,
+                 "Ground-truth rays per receiver " + kGtSamplesOption.range() + " (default 1024)");
   bs->add_option("--threads", benchShadows.threads, "Worker threads " + engine::kThreadsOption.range() + " (0 = all cores)");
   bs->add_option("--out", benchShadows.out, "Report folder (default out/bench-shadows)");
   bs->add_option("--cache", benchShadows.cache, "Ground-truth cache folder (default <out>/gt-cache)");
@@ -101,10 +103,12 @@ int main(int argc, char** argv) {
   bst->add_option("--method", benchStoch.methods, "Bounding method box, interval or dual (repeatable; default all)");
   bst->add_option("--spp", benchStoch.spp, "Samples per pixel to run, each " + engine::kSppOption.range() + " (default 4,16,64)")
       ->delimiter(',');
-  bst->add_option("--width", benchStoch.width, "Image width [16, 4096] (default 480)");
-  bst->add_option("--height", benchStoch.height, "Image height [16, 4096] (default 270)");
-  bst->add_option("--runs", benchStoch.runs, "Timed runs per setting; medians are reported (default 3)");
-  bst->add_option("--ref-frames", benchStoch.refFrames, "Pinhole frames in the accumulation reference (default 512)");
+  bst->add_option("--width", benchStoch.width, "Image width " + kBenchWidthOption.range() + " (default 480)");
+  bst->add_option("--height", benchStoch.height, "Image height " + kBenchHeightOption.range() + " (default 270)");
+  bst->add_option("--runs", benchStoch.runs,
+                  "Timed runs per setting " + kBenchRunsOption.range() + "; medians are reported (default 3)");
+  bst->add_option("--ref-frames", benchStoch.refFrames,
+                  "Pinhole frames in the accumulation reference " + kRefFramesOption.range() + " (default 512)");
   bst->add_option("--shadow", benchStoch.shadow, "Shadow technique of every frame (default none)");
   bst->add_option("--threads", benchStoch.threads, "Worker threads " + engine::kThreadsOption.range() + " (0 = all cores)");
   bst->add_option("--out", benchStoch.out, "Report folder (default out/bench-stochastic)");
