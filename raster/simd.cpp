@@ -33,7 +33,10 @@ bool isSupportedSimdTarget(int64_t target) {
 }
 
 size_t simdDispatchIndex(int64_t target) {
-  if (target == 0) return 0;
+  // 0: Highway's own choice, as HWY_DYNAMIC_DISPATCH makes it (entry 0, which chooses and caches,
+  // until the first dispatch; then the cached best). Entry 0 on every call would re-detect the CPU
+  // each time.
+  if (target == 0) return hwy::GetChosenTarget().GetIndex();
   // HWY_EXPORT tables: entry 0 chooses, then one entry per dynamic target (HWY_CHOSEN_TARGET_SHIFT
   // of its bit, hwy/targets.h), the scalar fallback last.
   if (target == HWY_SCALAR || target == HWY_EMU128) return HWY_MAX_DYNAMIC_TARGETS + 1;

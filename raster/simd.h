@@ -31,8 +31,8 @@ const char* simdTargetName(int64_t target);
 bool isSupportedSimdTarget(int64_t target);  // 0 counts as supported (the best)
 
 // For the kernels' own files: the entry of a Highway dispatch table (HWY_EXPORT) that runs
-// `target`; 0 is the entry that picks the best target. Every kernel file is compiled for the same
-// targets (HWY_TARGETS), so one index serves every table.
+// `target`; for 0, the entry HWY_DYNAMIC_DISPATCH would use (the best target, detected once). Every
+// kernel file is compiled for the same targets (HWY_TARGETS), so one index serves every table.
 size_t simdDispatchIndex(int64_t target);
 // The target a dispatch by simdDispatchIndex(target) runs (tests: it is `target`, or the best for 0).
 int64_t simdTargetRun(int64_t target);
