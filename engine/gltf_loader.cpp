@@ -452,8 +452,8 @@ class Loader {
       size = encoded_.bytes[static_cast<size_t>(image)].size();
     }
     if (size == 0) return fail(label + " cannot be read (missing or empty file)");
-    Result<raster::ImageRgba8> decoded = decodeImageRgba8(bytes, size, img.uri.empty() ? label : img.uri);
-    if (!decoded) return fail(label + " cannot be decoded: " + decoded.error().what);
+    Result<raster::ImageRgba8> decoded = decodeTexture(bytes, size, img.mimeType, label);
+    if (!decoded) return fail(label + ": " + decoded.error().what);
     Texture t;
     t.name = !img.name.empty() ? img.name : !img.uri.empty() && img.uri.rfind("data:", 0) != 0 ? img.uri : label;
     t.mips.push_back(std::move(*decoded));

@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <sys/mman.h>
+
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
@@ -12,6 +14,7 @@
 #include <exception>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <system_error>
 #include <vector>
 
@@ -140,22 +143,149 @@ Result<raster::ImageRgba8> readOpened(ImageInput& in, const std::string& name) {
   return img;
 }
 
-// A file name whose extension names the format of the encoded bytes, from their signature.
-std::string formatHint(const unsigned char* d, size_t n, const std::string& nameForErrors) {
-  auto starts = [&](const char* magic, size_t len, size_t at = 0) { return n >= at + len && std::memcmp(d + at, magic, len) == 0; };
-  if (starts("\x89PNG", 4)) return "memory.png";
-  if (starts("\xFF\xD8\xFF", 3)) return "memory.jpg";
-  if (starts("GIF8", 4)) return "memory.gif";
-  if (starts("BM", 2)) return "memory.bmp";
-  if (starts("\x76\x2F\x31\x01", 4)) return "memory.exr";
-  if (starts("II*\0", 4) || starts("MM\0*", 4)) return "memory.tif";
-  if (starts("RIFF", 4) && starts("WEBP", 4, 8)) return "memory.webp";
-  if (starts("#?", 2)) return "memory.hdr";
-  const std::string ext = lowerExtension(nameForErrors);
-  return "memory" + (ext.empty() ? std::string(".png") : ext);
+const char* formatName(TextureFormat f) {
+  switch (f) {
+    case TextureFormat::Png: return "PNG";
+    case TextureFormat::Jpeg: return "JPEG";
+    case TextureFormat::Ktx2: return "KTX2";
+    case TextureFormat::Webp: return "WebP";
+    case TextureFormat::Unknown: break;
+  }
+  return "unknown";
+}
+
+// What a decoder writes to stderr (fd 2) while this lives is kept instead of reaching the
+// terminal: libpng prints warnings and errors there itself. fd 2 is the process's, so captures
+// are serialized; nothing else in Penumbra writes to stderr while a texture decodes (loading runs
+// on one thread, before any progress line).
+std::mutex gStderrMutex;
+
+class StderrCapture {
+ public:
+  StderrCapture() : lock_(gStderrMutex) {
+    std::fflush(stderr);
+    file_ = ::memfd_create("penumbra-stderr", MFD_CLOEXEC);
+    if (file_ < 0) return;
+    saved_ = ::dup(STDERR_FILENO);
+    if (saved_ < 0 || ::dup2(file_, STDERR_FILENO) < 0) {
+      if (saved_ >= 0) ::close(saved_);
+      ::close(file_);
+      file_ = saved_ = -1;
+    }
+  }
+  ~StderrCapture() { (void)finish(); }
+  StderrCapture(const StderrCapture&) = delete;
+  StderrCapture& operator=(const StderrCapture&) = delete;
+
+  // Restores stderr; what was written meanwhile (at most 1 KiB of it).
+  std::string finish() {
+    if (file_ < 0) return {};
+    std::fflush(stderr);
+    ::dup2(saved_, STDERR_FILENO);
+    ::close(saved_);
+    std::string text(1024, '\0');
+    const ssize_t n = ::pread(file_, text.data(), text.size(), 0);
+    ::close(file_);
+    file_ = saved_ = -1;
+    text.resize(n > 0 ? static_cast<size_t>(n) : 0);
+    return text;
+  }
+
+ private:
+  std::lock_guard<std::mutex> lock_;
+  int file_ = -1, saved_ = -1;
+};
+
+// The decode proper, with the format's plugin alone reading from memory.
+Result<raster::ImageRgba8> decodeWithPlugin(const unsigned char* data, size_t size, TextureFormat format,
+                                            const std::string& name, std::string& oiioError) {
+  const char* plugin = format == TextureFormat::Png ? "png" : "jpeg";
+  OIIO::Filesystem::IOMemReader memory(data, size);
+  // A format name, not a file name: OIIO creates that plugin and no other.
+  std::unique_ptr<ImageInput> in = ImageInput::create(plugin, false, nullptr, &memory);
+  if (!in) {
+    oiioError = OIIO::geterror();
+    return Error{name, std::string("no ") + formatName(format) + " decoder"};
+  }
+  if (!in->supports("ioproxy")) return Error{name, std::string("the ") + formatName(format) + " decoder cannot read from memory"};
+  ImageSpec config;
+  void* proxy = &memory;
+  config.attribute("oiio:ioproxy", TypeDesc::PTR, &proxy);
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  ImageSpec spec;
+  if (!in->open(std::string("memory.") + plugin, spec, config)) {
+    oiioError = in->geterror();
+    return Error{name, "cannot decode image"};
+  }
+  Result<raster::ImageRgba8> out = readOpened(*in, name);
+  if (!out) oiioError = in->geterror();
+  return out;
 }
 
 }  // namespace
+
+TextureFormat textureFormatOf(const unsigned char* d, size_t n) {
+  auto starts = [&](const char* magic, size_t len, size_t at = 0) { return n >= at + len && std::memcmp(d + at, magic, len) == 0; };
+  if (starts("\x89PNG\r\n\x1a\n", 8)) return TextureFormat::Png;
+  if (starts("\xFF\xD8\xFF", 3)) return TextureFormat::Jpeg;
+  if (starts("\xABKTX 20\xBB\r\n\x1a\n", 12)) return TextureFormat::Ktx2;
+  if (starts("RIFF", 4) && starts("WEBP", 4, 8)) return TextureFormat::Webp;
+  return TextureFormat::Unknown;
+}
+
+TextureFormat textureFormatOfMime(const std::string& m) {
+  if (m == "image/png") return TextureFormat::Png;
+  if (m == "image/jpeg") return TextureFormat::Jpeg;
+  if (m == "image/ktx2") return TextureFormat::Ktx2;
+  if (m == "image/webp") return TextureFormat::Webp;
+  return TextureFormat::Unknown;
+}
+
+Result<raster::ImageRgba8> decodeTexture(const unsigned char* data, size_t size, const std::string& mimeType,
+                                         const std::string& name) {
+  if (data == nullptr || size == 0) return Error{name, "image data is empty"};
+  const TextureFormat format = textureFormatOf(data, size);
+  const TextureFormat declared = textureFormatOfMime(mimeType);
+  if (!mimeType.empty() && declared == TextureFormat::Unknown)
+    return Error{name, "mimeType '" + mimeType + "' is not an image type glTF allows (image/png, image/jpeg)"};
+  if (format == TextureFormat::Ktx2 || format == TextureFormat::Webp ||
+      (format == TextureFormat::Unknown && (declared == TextureFormat::Ktx2 || declared == TextureFormat::Webp))) {
+    const TextureFormat f = format != TextureFormat::Unknown ? format : declared;
+    return Error{name, std::string(formatName(f)) + " images (" +
+                           (f == TextureFormat::Ktx2 ? "KHR_texture_basisu" : "EXT_texture_webp") +
+                           ") are not supported: only PNG and JPEG"};
+  }
+  if (format == TextureFormat::Unknown) return Error{name, "not a PNG or JPEG image (the only formats glTF allows)"};
+  if (declared != TextureFormat::Unknown && declared != format)
+    return Error{name, "declared " + mimeType + " but the bytes are " + formatName(format)};
+  std::string oiioError;
+  Result<raster::ImageRgba8> out = Error{name, ""};
+  std::string library;
+  {
+    StderrCapture capture;
+    try {
+      out = decodeWithPlugin(data, size, format, name, oiioError);
+    } catch (const std::exception& e) {
+      out = Error{name, "cannot decode image"};
+      oiioError = e.what();
+    }
+    library = capture.finish();
+    (void)OIIO::geterror();  // nothing pending for the next caller
+  }
+  if (out) return out;
+  // One line: our reason, then what OIIO said, then what the decoding library printed (less what
+  // OIIO already repeats).
+  std::string why = out.error().what + " (" + formatName(format) + ")";
+  std::string said = oiioError.empty() ? "" : oneLine(oiioError);
+  for (std::string line : {library}) {
+    if (line.empty()) continue;
+    line = oneLine(line);
+    for (const char* prefix : {"libpng error: ", "libpng warning: "})
+      if (line.rfind(prefix, 0) == 0) line.erase(0, std::strlen(prefix));
+    if (said.find(line) == std::string::npos) said += (said.empty() ? "" : "; ") + line;
+  }
+  return Error{name, said.empty() ? why : why + ": " + said};
+}
 
 Status writeImage(const std::string& path, const raster::ImageRgba8& image) {
   if (!isFloatFormat(lowerExtension(path))) return writeAtomically(path, viewOf(image, 4, TypeDesc::UINT8));
@@ -201,25 +331,6 @@ Result<raster::ImageRgba8> readImageRgba8(const std::string& path) {
     return readOpened(*in, path);
   } catch (const std::exception& e) {
     return Error{path, "cannot read image: " + oneLine(e.what())};
-  }
-}
-
-Result<raster::ImageRgba8> decodeImageRgba8(const unsigned char* data, size_t size, const std::string& nameForErrors) {
-  if (data == nullptr || size == 0) return Error{nameForErrors, "image data is empty"};
-  try {
-    const std::string hint = formatHint(data, size, nameForErrors);
-    OIIO::Filesystem::IOMemReader memory(data, size);
-    std::unique_ptr<ImageInput> in = ImageInput::create(hint, false, nullptr, &memory);
-    if (!in) return Error{nameForErrors, "cannot decode image: " + oneLine(OIIO::geterror())};
-    ImageSpec config;
-    void* proxy = &memory;
-    config.attribute("oiio:ioproxy", TypeDesc::PTR, &proxy);
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    ImageSpec spec;
-    if (!in->open(hint, spec, config)) return Error{nameForErrors, "cannot decode image: " + oneLine(in->geterror())};
-    return readOpened(*in, nameForErrors);
-  } catch (const std::exception& e) {
-    return Error{nameForErrors, "cannot decode image: " + oneLine(e.what())};
   }
 }
 

@@ -36,10 +36,25 @@ Status writeImage(const std::string& path, const raster::ImageFloat& image);
 // OIIO (rescaled, no transfer function applied).
 Result<raster::ImageRgba8> readImageRgba8(const std::string& path);
 
-// The same from encoded bytes in memory (a PNG or JPEG inside a glTF file, for instance). The
-// format is recognized from the data; nameForErrors names the source in errors and, when the data
-// is not recognized, its extension is tried as the format.
-Result<raster::ImageRgba8> decodeImageRgba8(const unsigned char* data, size_t size,
-                                           const std::string& nameForErrors);
+// Our own outputs only (tests read renders back): any format OIIO reads. Untrusted images go
+// through decodeTexture.
+
+// The image formats a texture may be in: the two glTF 2.0 core allows. KTX2 (KHR_texture_basisu)
+// and WebP (EXT_texture_webp) are recognized, to say so, and refused.
+enum class TextureFormat { Png, Jpeg, Ktx2, Webp, Unknown };
+// From the bytes' signature (PNG's 8 bytes, JPEG's SOI marker, KTX2's identifier, RIFF....WEBP).
+TextureFormat textureFormatOf(const unsigned char* data, size_t size);
+// From a glTF mimeType ("image/png", "image/jpeg", "image/ktx2", "image/webp"; "" -> Unknown).
+TextureFormat textureFormatOfMime(const std::string& mimeType);
+
+// An untrusted texture from encoded bytes in memory (a glTF image: a data URI, a file the model
+// names, a buffer view). Decoded only when the signature is PNG or JPEG (and agrees with
+// `mimeType` when one is declared), by that format's OpenImageIO plugin alone, from memory: no
+// other plugin ever sees the bytes and nothing is read from or written to a file. The decoders'
+// own messages (libpng, libjpeg, OIIO) never reach the terminal: they are folded into the error,
+// one line naming `nameForErrors`. Images larger than kMaxImageSide / kMaxImagePixels are refused
+// from their header, before their pixels are decoded.
+Result<raster::ImageRgba8> decodeTexture(const unsigned char* data, size_t size, const std::string& mimeType,
+                                         const std::string& nameForErrors);
 
 }  // namespace penumbra::engine

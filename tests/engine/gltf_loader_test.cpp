@@ -645,7 +645,7 @@ TEST_F(GltfLoader, OtherStructuralErrors) {
 TEST_F(GltfLoader, MissingOrUndecodableImage) {
   expectError(write("missing.gltf", texturedTriangles({{"uri", "missing.png"}}).text()), "image 0 ('missing.png')");
   const std::string garbage = "data:image/png;base64," + base64(std::vector<unsigned char>(64, 7));
-  expectError(write("garbage.gltf", texturedTriangles({{"uri", garbage}}).text()), "image 0 cannot be decoded");
+  expectError(write("garbage.gltf", texturedTriangles({{"uri", garbage}}).text()), "image 0: not a PNG or JPEG image");
   // An image in a buffer view that runs past its buffer.
   Gltf g = texturedTriangles(json::object());
   const int view = g.view(std::vector<unsigned char>(16, 1));

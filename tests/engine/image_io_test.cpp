@@ -144,13 +144,13 @@ TEST_F(ImageIo, DecodesFromMemory) {
   const raster::ImageRgba8 img = pattern(6, 4);
   ASSERT_TRUE(writeImage(file("m.png"), img).ok());
   const std::vector<unsigned char> png = bytesOf(file("m.png"));
-  Result<raster::ImageRgba8> back = decodeImageRgba8(png.data(), png.size(), "embedded");
+  Result<raster::ImageRgba8> back = decodeTexture(png.data(), png.size(), "image/png", "embedded");
   ASSERT_TRUE(back.ok()) << back.error().line();
   expectSame(*back, img);
   // JPEG is lossy: only check that it decodes to the right size.
   ASSERT_TRUE(writeImage(file("m.jpg"), img).ok());
   const std::vector<unsigned char> jpg = bytesOf(file("m.jpg"));
-  Result<raster::ImageRgba8> j = decodeImageRgba8(jpg.data(), jpg.size(), "photo");
+  Result<raster::ImageRgba8> j = decodeTexture(jpg.data(), jpg.size(), "", "photo");
   ASSERT_TRUE(j.ok()) << j.error().line();
   EXPECT_EQ(j->width(), 6);
   EXPECT_EQ(j->height(), 4);
@@ -159,16 +159,77 @@ TEST_F(ImageIo, DecodesFromMemory) {
 
 TEST_F(ImageIo, GarbageAndTruncatedDataAreErrors) {
   const std::vector<unsigned char> garbage(100, 0x5a);
-  Result<raster::ImageRgba8> r = decodeImageRgba8(garbage.data(), garbage.size(), "textures/x.png");
+  Result<raster::ImageRgba8> r = decodeTexture(garbage.data(), garbage.size(), "", "textures/x.png");
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().where, "textures/x.png");
-  EXPECT_FALSE(decodeImageRgba8(nullptr, 0, "empty").ok());
+  EXPECT_FALSE(decodeTexture(nullptr, 0, "", "empty").ok());
   ASSERT_TRUE(writeImage(file("t.png"), pattern(16, 16)).ok());
   const std::vector<unsigned char> png = bytesOf(file("t.png"));
   for (size_t cut : {size_t{8}, size_t{30}, png.size() / 2, png.size() - 13}) {
-    Result<raster::ImageRgba8> t = decodeImageRgba8(png.data(), cut, "cut.png");
+    Result<raster::ImageRgba8> t = decodeTexture(png.data(), cut, "", "cut.png");
     EXPECT_FALSE(t.ok()) << "cut at " << cut;
   }
+}
+
+// What fd 2 receives while f runs.
+template <class F>
+std::string stderrDuring(F&& f) {
+  std::fflush(stderr);
+  const int saved = ::dup(2);
+  char name[] = "/tmp/penumbra-stderr-XXXXXX";
+  const int file = ::mkstemp(name);
+  ::dup2(file, 2);
+  f();
+  std::fflush(stderr);
+  ::dup2(saved, 2);
+  ::close(saved);
+  std::string text(4096, '\0');
+  const ssize_t n = ::pread(file, text.data(), text.size(), 0);
+  ::close(file);
+  ::unlink(name);
+  text.resize(n > 0 ? static_cast<size_t>(n) : 0);
+  return text;
+}
+
+// Textures are untrusted: only PNG and JPEG are decoded, by their own plugin, whatever other
+// format the bytes are in or the name suggests.
+TEST_F(ImageIo, TexturesArePngOrJpegOnly) {
+  const raster::ImageRgba8 img = pattern(4, 4);
+  for (const char* ext : {".exr", ".tif", ".bmp", ".tga", ".dpx"}) {
+    ASSERT_TRUE(writeImage(file(std::string("x") + ext), img).ok()) << ext;
+    const std::vector<unsigned char> bytes = bytesOf(file(std::string("x") + ext));
+    const Result<raster::ImageRgba8> r = decodeTexture(bytes.data(), bytes.size(), "", std::string("t") + ext);
+    ASSERT_FALSE(r.ok()) << ext << " was decoded";
+    EXPECT_NE(r.error().what.find("not a PNG or JPEG"), std::string::npos) << r.error().line();
+  }
+  ASSERT_TRUE(writeImage(file("p.png"), img).ok());
+  const std::vector<unsigned char> png = bytesOf(file("p.png"));
+  EXPECT_EQ(textureFormatOf(png.data(), png.size()), TextureFormat::Png);
+  // The declared type must agree with the bytes, and be one glTF allows.
+  const Result<raster::ImageRgba8> lie = decodeTexture(png.data(), png.size(), "image/jpeg", "lie");
+  ASSERT_FALSE(lie.ok());
+  EXPECT_NE(lie.error().what.find("declared image/jpeg but the bytes are PNG"), std::string::npos) << lie.error().line();
+  EXPECT_FALSE(decodeTexture(png.data(), png.size(), "image/gif", "gif").ok());
+  // KTX2 and WebP are named, and refused.
+  const unsigned char ktx2[16] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n', 0, 0, 0, 0};
+  const Result<raster::ImageRgba8> k = decodeTexture(ktx2, sizeof ktx2, "", "k");
+  ASSERT_FALSE(k.ok());
+  EXPECT_NE(k.error().what.find("KHR_texture_basisu"), std::string::npos) << k.error().line();
+  const unsigned char webp[16] = {'R', 'I', 'F', 'F', 8, 0, 0, 0, 'W', 'E', 'B', 'P', 'V', 'P', '8', ' '};
+  EXPECT_NE(decodeTexture(webp, sizeof webp, "", "w").error().what.find("WebP"), std::string::npos);
+}
+
+// A corrupt PNG: one line naming the image, and libpng's own messages never reach the terminal.
+TEST_F(ImageIo, CorruptTextureMessagesAreFoldedIntoOneLine) {
+  ASSERT_TRUE(writeImage(file("c.png"), pattern(64, 64)).ok());
+  std::vector<unsigned char> png = bytesOf(file("c.png"));
+  for (size_t i = 60; i < png.size() - 20; i += 7) png[i] = static_cast<unsigned char>(png[i] ^ 0x5a);  // IDAT and CRCs
+  Result<raster::ImageRgba8> r = Error{"", ""};
+  const std::string printed = stderrDuring([&] { r = decodeTexture(png.data(), png.size(), "image/png", "image 3"); });
+  EXPECT_EQ(printed, "");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().where, "image 3");
+  EXPECT_EQ(r.error().line().find('\n'), std::string::npos);
 }
 
 TEST_F(ImageIo, UnwritableDirectoryIsAnErrorAndLeavesNoFile) {
