@@ -16,8 +16,10 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <vector>
 
+#include "engine/file_access.h"
 #include "engine/image_io.h"
 #include "engine/texture.h"
 
@@ -90,31 +92,74 @@ void flatShade(Mesh& mesh) {
   mesh = std::move(flat);
 }
 
-// File access for the buffers and images a glTF names: regular files only. tinygltf's own
-// callbacks fopen() the path, which blocks forever on a FIFO.
-bool regularFileExists(const std::string& path, void*) {
-  std::error_code ec;
-  return fs::is_regular_file(path, ec);
-}
+// The files tinygltf may open (buffers and images named by URI), found and checked by the loader
+// before tinygltf runs (Loader::scanReferences): by the path tinygltf asks for (its JoinPath of the
+// model's folder and the decoded URI), the file it resolves to inside the folder and the size it
+// must have. tinygltf's own callbacks would fopen() any path (a FIFO blocks forever) and would
+// also look for a URI in the current folder; these open nothing else.
+struct AllowedFile {
+  fs::path resolved;
+  uint64_t size = 0;  // buffers: exactly this; images: at most kMaxImageFileBytes
+  bool exact = false;
+};
+struct FileGate {
+  std::map<std::string, AllowedFile> files;
+};
 
-bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+// An encoded texture file larger than this is refused unread (a decoded texture is at most
+// kMaxImagePixels RGBA8 texels, 256 MiB).
+constexpr uint64_t kMaxImageFileBytes = uint64_t{256} << 20;
+
+bool gateExists(const std::string& path, void* user) { return static_cast<FileGate*>(user)->files.count(path) > 0; }
+
+bool gateRead(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  const auto& files = static_cast<FileGate*>(user)->files;
+  const auto it = files.find(path);
+  if (it == files.end()) {
+    if (err) *err += "not a file the model names: " + path;
+    return false;
+  }
+  const AllowedFile& f = it->second;
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) {
-    if (err) *err += "not a regular file: " + path;
+  const uintmax_t size = fs::is_regular_file(f.resolved, ec) ? fs::file_size(f.resolved, ec) : 0;
+  if (ec || (f.exact ? size != f.size : size > kMaxImageFileBytes)) {
+    if (err) *err += "changed while loading: " + path;
     return false;
   }
-  const uintmax_t size = fs::file_size(path, ec);
-  if (ec || size > std::numeric_limits<unsigned int>::max()) {
-    if (err) *err += "cannot read (or larger than 4 GiB): " + path;
-    return false;
-  }
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(f.resolved, std::ios::binary);
   out->resize(static_cast<size_t>(size));
   if (!in || (size > 0 && !in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size)))) {
     if (err) *err += "cannot read: " + path;
     return false;
   }
   return true;
+}
+
+// tinygltf's decoding of a URI into a path (its dlib::urldecode: %XX, and '+' as a space).
+std::string decodeUri(const std::string& uri) {
+  auto hex = [](char c) -> int {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return 0;
+  };
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '+') {
+      out += ' ';
+    } else if (uri[i] == '%' && uri.size() > i + 2) {
+      out += static_cast<char>((hex(uri[i + 1]) << 4) | hex(uri[i + 2]));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+std::string joinPath(const std::string& a, const std::string& b) {  // tinygltf's JoinPath
+  if (a.empty()) return b;
+  return a.back() == '/' ? a + b : a + "/" + b;
 }
 
 // SAX handler that only tracks nesting depth and stops past kMax levels.
@@ -220,16 +265,22 @@ struct AccessorView {
 
 class Loader {
  public:
-  Loader(std::string path, GltfLoadStats& stats) : path_(std::move(path)), stats_(stats) {}
+  Loader(std::string path, const LoadOptions& options, GltfLoadStats& stats)
+      : path_(std::move(path)), options_(options), stats_(stats) {}
 
   Result<Scene> run() {
     std::vector<unsigned char> data;
     if (Status s = readFile(data); !s) return s.error();
     const bool binary = data.size() >= 4 && std::memcmp(data.data(), "glTF", 4) == 0;
+    if (Status s = checkJsonDepth(data, binary); !s) return s.error();
+    if (Status s = scanReferences(data, binary); !s) return s.error();
     if (Status s = parse(data, binary); !s) return s.error();
     if (Status s = checkModel(); !s) return s.error();
     if (Status s = walkScene(); !s) return s.error();
     scene_.name = fs::path(path_).stem().string();
+    std::error_code ec;
+    scene_.sourceFiles.push_back(fs::weakly_canonical(path_, ec).string());
+    scene_.sourceFiles.insert(scene_.sourceFiles.end(), sources_.begin(), sources_.end());
     if (Status s = validateScene(scene_, path_); !s) return s.error();
     return std::move(scene_);
   }
@@ -255,11 +306,10 @@ class Loader {
   }
 
   Status parse(const std::vector<unsigned char>& data, bool binary) {
-    if (Status s = checkJsonDepth(data, binary); !s) return s;
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(&captureImage, &encoded_);
-    gltf.SetFsCallbacks(tinygltf::FsCallbacks{&regularFileExists, &tinygltf::ExpandFilePath, &readRegularFile,
-                                              &tinygltf::WriteWholeFile, nullptr});
+    gltf.SetFsCallbacks(
+        tinygltf::FsCallbacks{&gateExists, &tinygltf::ExpandFilePath, &gateRead, &tinygltf::WriteWholeFile, &gate_});
     std::string err, warn;
     const std::string baseDir = fs::path(path_).parent_path().string();
     bool ok = false;
@@ -275,6 +325,136 @@ class Loader {
     if (ok) return Ok{};
     if (binary) return fail("invalid glTF binary: " + condense(err));
     return explainTextFailure(data, err);
+  }
+
+  // The JSON text of the model (a .glb's JSON chunk), or nothing when the container is malformed
+  // (tinygltf then says what is wrong).
+  static std::optional<std::pair<size_t, size_t>> jsonRange(const std::vector<unsigned char>& data, bool binary) {
+    if (!binary) return std::pair<size_t, size_t>{0, data.size()};
+    auto u32 = [&](size_t at) {
+      uint32_t v = 0;
+      std::memcpy(&v, data.data() + at, 4);
+      return v;
+    };
+    if (data.size() < 20 || u32(16) != 0x4E4F534Au) return std::nullopt;  // "JSON" chunk
+    const size_t chunk = u32(12);
+    if (chunk > data.size() - 20) return std::nullopt;
+    return std::pair<size_t, size_t>{20, chunk};
+  }
+
+  // Before tinygltf reads anything: every file the model names by URI is resolved inside the
+  // model's folder (file_access.h) and its size checked (a buffer's file must hold exactly its
+  // byteLength); only those files are open to tinygltf (FileGate). A buffer no buffer view of an
+  // accessor or an image uses is not read at all: its URI is replaced by a one-byte data URI in
+  // the text tinygltf parses.
+  Status scanReferences(std::vector<unsigned char>& data, bool binary) {
+    const std::optional<std::pair<size_t, size_t>> range = jsonRange(data, binary);
+    if (!range) return Ok{};
+    nlohmann::json doc;
+    try {
+      doc = nlohmann::json::parse(data.begin() + static_cast<std::ptrdiff_t>(range->first),
+                                  data.begin() + static_cast<std::ptrdiff_t>(range->first + range->second));
+    } catch (const std::exception&) {
+      return Ok{};  // tinygltf reports the JSON error
+    }
+    if (!doc.is_object()) return Ok{};
+    const std::string baseDir = fs::path(path_).parent_path().string();
+    auto array = [&](const char* key) -> nlohmann::json* {
+      auto it = doc.find(key);
+      return it != doc.end() && it->is_array() ? &*it : nullptr;
+    };
+    // Buffers used: through a buffer view of an accessor or an image.
+    std::vector<char> usedView, usedBuffer;
+    if (nlohmann::json* views = array("bufferViews")) usedView.assign(views->size(), 0);
+    for (const char* owner : {"accessors", "images"})
+      if (nlohmann::json* list = array(owner))
+        for (const nlohmann::json& e : *list)
+          if (e.is_object() && e.contains("bufferView") && e["bufferView"].is_number_unsigned() &&
+              e["bufferView"].get<uint64_t>() < usedView.size())
+            usedView[e["bufferView"].get<size_t>()] = 1;
+    if (nlohmann::json* buffers = array("buffers")) usedBuffer.assign(buffers->size(), 0);
+    if (nlohmann::json* views = array("bufferViews"))
+      for (size_t v = 0; v < views->size(); ++v) {
+        const nlohmann::json& bv = (*views)[v];
+        if (usedView[v] && bv.is_object() && bv.contains("buffer") && bv["buffer"].is_number_unsigned() &&
+            bv["buffer"].get<uint64_t>() < usedBuffer.size())
+          usedBuffer[bv["buffer"].get<size_t>()] = 1;
+      }
+    bool rewrite = false;
+    if (nlohmann::json* buffers = array("buffers"))
+      for (size_t i = 0; i < buffers->size(); ++i) {
+        nlohmann::json& b = (*buffers)[i];
+        if (!b.is_object() || !b.contains("uri") || !b["uri"].is_string()) continue;
+        const std::string uri = b["uri"].get<std::string>();
+        const std::string what = "buffer " + str(i) + " ('" + uri + "')";
+        const std::string scheme = uriScheme(uri);
+        if (scheme == "data") continue;
+        if (!scheme.empty()) return fail(what + ": URI scheme '" + scheme + "' is not supported (relative paths and data: only)");
+        if (!usedBuffer[i]) {  // never read: tinygltf gets one zero byte instead
+          b["uri"] = "data:application/octet-stream;base64,AA==";
+          b["byteLength"] = 1;
+          ++stats_.buffersSkipped;
+          rewrite = true;
+          continue;
+        }
+        Result<fs::path> file = resolveReference(baseDir, decodeUri(uri), options_, path_, what);
+        if (!file) return file.error();
+        std::error_code ec;
+        const uintmax_t size = fs::file_size(*file, ec);
+        if (!b.contains("byteLength") || !b["byteLength"].is_number_unsigned())
+          return fail(what + " has no valid byteLength");
+        const uint64_t want = b["byteLength"].get<uint64_t>();
+        if (ec || size != want)
+          return fail(what + ": the file holds " + std::to_string(size) + " bytes, the buffer's byteLength is " +
+                      std::to_string(want));
+        gate_.files[joinPath(baseDir, decodeUri(uri))] = {*file, want, true};
+        sources_.push_back(file->string());
+      }
+    if (nlohmann::json* images = array("images"))
+      for (size_t i = 0; i < images->size(); ++i) {
+        const nlohmann::json& im = (*images)[i];
+        if (!im.is_object() || !im.contains("uri") || !im["uri"].is_string()) continue;
+        const std::string uri = im["uri"].get<std::string>();
+        const std::string what = "image " + str(i) + " ('" + uri + "')";
+        const std::string scheme = uriScheme(uri);
+        if (scheme == "data") continue;
+        if (!scheme.empty()) return fail(what + ": URI scheme '" + scheme + "' is not supported (relative paths and data: only)");
+        Result<fs::path> file = resolveReference(baseDir, decodeUri(uri), options_, path_, what);
+        if (!file) {
+          imageProblems_.emplace(i, file.error().what);  // an error only if a material uses it (texture())
+          continue;
+        }
+        std::error_code ec;
+        const uintmax_t size = fs::file_size(*file, ec);
+        if (ec || size > kMaxImageFileBytes) {
+          imageProblems_.emplace(i, what + " is larger than " + std::to_string(kMaxImageFileBytes >> 20) + " MiB");
+          continue;
+        }
+        gate_.files[joinPath(baseDir, decodeUri(uri))] = {*file, size, false};
+        sources_.push_back(file->string());
+      }
+    if (!rewrite) return Ok{};
+    const std::string text = doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    if (!binary) {
+      data.assign(text.begin(), text.end());
+      return Ok{};
+    }
+    // The .glb again: header, the new JSON chunk (padded with spaces to 4 bytes), the rest as it was.
+    const size_t oldEnd = 20 + ((range->second + 3) & ~size_t{3});
+    std::vector<unsigned char> glb(data.begin(), data.begin() + 12);
+    const size_t padded = (text.size() + 3) & ~size_t{3};
+    auto put32 = [&](uint32_t v) {
+      for (int k = 0; k < 4; ++k) glb.push_back(static_cast<unsigned char>(v >> (8 * k)));
+    };
+    put32(static_cast<uint32_t>(padded));
+    put32(0x4E4F534Au);
+    glb.insert(glb.end(), text.begin(), text.end());
+    glb.resize(20 + padded, ' ');
+    if (oldEnd < data.size()) glb.insert(glb.end(), data.begin() + static_cast<std::ptrdiff_t>(oldEnd), data.end());
+    const auto total = static_cast<uint32_t>(glb.size());
+    std::memcpy(glb.data() + 8, &total, 4);
+    data = std::move(glb);
+    return Ok{};
   }
 
   // tinygltf converts "extras" and "extensions" with a recursive function and no depth limit, so
@@ -334,7 +514,15 @@ class Loader {
                                          [&](const char* s) { return ext == s; });
       if (!supported) return fail("required extension " + ext + " is not supported");
     }
+    // Views an accessor or an image uses (the others, and the buffers only they use, are never
+    // read: scanReferences may have replaced those buffers with one byte).
+    std::vector<char> used(model_.bufferViews.size(), 0);
+    for (const tinygltf::Accessor& a : model_.accessors)
+      if (a.bufferView >= 0 && static_cast<size_t>(a.bufferView) < used.size()) used[static_cast<size_t>(a.bufferView)] = 1;
+    for (const tinygltf::Image& im : model_.images)
+      if (im.bufferView >= 0 && static_cast<size_t>(im.bufferView) < used.size()) used[static_cast<size_t>(im.bufferView)] = 1;
     for (size_t i = 0; i < model_.bufferViews.size(); ++i) {
+      if (!used[i]) continue;
       const tinygltf::BufferView& bv = model_.bufferViews[i];
       if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= model_.buffers.size())
         return fail("buffer view " + str(i) + " refers to buffer " + str(bv.buffer) + ", which does not exist");
@@ -435,6 +623,7 @@ class Loader {
       return fail("texture " + str(gltfTexture) + " uses image " + str(image) + ", which does not exist");
     if (auto it = textureOfImage_.find(image); it != textureOfImage_.end()) return it->second;
 
+    if (auto p = imageProblems_.find(static_cast<size_t>(image)); p != imageProblems_.end()) return fail(p->second);
     const tinygltf::Image& img = model_.images[static_cast<size_t>(image)];
     std::string label = "image " + str(image);
     if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0) label += " ('" + img.uri + "')";
@@ -697,7 +886,11 @@ class Loader {
   }
 
   std::string path_;
+  LoadOptions options_;
   GltfLoadStats& stats_;
+  FileGate gate_;
+  std::vector<std::string> sources_;   // files read besides the model itself
+  std::map<size_t, std::string> imageProblems_;  // named images outside the folder, missing, too large
   tinygltf::Model model_;
   EncodedImages encoded_;
   Scene scene_;
@@ -708,10 +901,10 @@ class Loader {
 
 }  // namespace
 
-Result<Scene> loadGltf(const std::string& path, GltfLoadStats& stats) {
+Result<Scene> loadGltf(const std::string& path, const LoadOptions& options, GltfLoadStats& stats) {
   stats = GltfLoadStats{};
   try {
-    return Loader(path, stats).run();
+    return Loader(path, options, stats).run();
   } catch (const std::bad_alloc&) {
     return Error{path, "out of memory while loading"};
   } catch (const std::exception& e) {
@@ -719,9 +912,9 @@ Result<Scene> loadGltf(const std::string& path, GltfLoadStats& stats) {
   }
 }
 
-Result<Scene> loadGltf(const std::string& path) {
+Result<Scene> loadGltf(const std::string& path, const LoadOptions& options) {
   GltfLoadStats stats;
-  return loadGltf(path, stats);
+  return loadGltf(path, options, stats);
 }
 
 }  // namespace penumbra::engine

@@ -21,6 +21,7 @@
 #include <string>
 
 #include "engine/error.h"
+#include "engine/file_access.h"
 #include "engine/scene.h"
 
 namespace penumbra::engine {
@@ -28,9 +29,10 @@ namespace penumbra::engine {
 // What the loader left out, for the caller to report.
 struct GltfLoadStats {
   int skippedPrimitives = 0;  // POINTS, LINES, LINE_LOOP and LINE_STRIP primitives
+  int buffersSkipped = 0;     // external buffers no accessor or image uses: never read
 };
 
-Result<Scene> loadGltf(const std::string& path);
-Result<Scene> loadGltf(const std::string& path, GltfLoadStats& stats);
+Result<Scene> loadGltf(const std::string& path, const LoadOptions& options = {});
+Result<Scene> loadGltf(const std::string& path, const LoadOptions& options, GltfLoadStats& stats);
 
 }  // namespace penumbra::engine

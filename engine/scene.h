@@ -97,6 +97,10 @@ struct Scene {
   glm::vec3 ambient{0.08f};      // constant ambient term added to the lit color
   glm::vec3 background{0.1f, 0.1f, 0.12f};
 
+  // Every file the scene was read from (canonical paths): the scene file, glTF files, buffers,
+  // images. An output must not overwrite any of them.
+  std::vector<std::string> sourceFiles;
+
   size_t triangleCount() const;
   // World-space bounding box of all instances; false when the scene is empty.
   bool worldBounds(glm::vec3& lo, glm::vec3& hi) const;

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/file_access.h"
 #include "engine/gltf_loader.h"
 #include "engine/shapes.h"
 
@@ -186,7 +187,7 @@ glm::mat4 transform(const json& obj, const std::string& at) {
 
 class SceneParser {
  public:
-  explicit SceneParser(std::string path) : path_(std::move(path)) {}
+  SceneParser(std::string path, const LoadOptions& options) : path_(std::move(path)), options_(options) {}
 
   Scene parse(const json& root) {
     requireObject(root, "");
@@ -215,12 +216,16 @@ class SceneParser {
     checkKeys(e, at, {"file", "transform"});
     const json& file = required(e, "file", at);
     if (!file.is_string() || file.get<std::string>().empty()) invalid(member(at, "file") + " must be a non-empty string");
-    fs::path p(file.get<std::string>());
-    if (p.is_relative()) p = fs::path(path_).parent_path() / p;
+    const std::string name = file.get<std::string>();
+    // Inside the scene file's folder (file_access.h).
+    Result<fs::path> p = resolveReference(fs::path(path_).parent_path(), name, options_, path_,
+                                          member(at, "file") + " ('" + name + "')");
+    if (!p) invalid(p.error().what);
     const glm::mat4 m = transform(e, at);
-    Result<Scene> loaded = loadGltf(p.lexically_normal().string());
+    Result<Scene> loaded = loadGltf(p->string(), options_);
     if (!loaded) invalid(member(at, "file") + ": " + loaded.error().line());
     Scene& sub = *loaded;
+    scene_.sourceFiles.insert(scene_.sourceFiles.end(), sub.sourceFiles.begin(), sub.sourceFiles.end());
     const int meshBase = static_cast<int>(scene_.meshes.size());
     const int materialBase = static_cast<int>(scene_.materials.size());
     const int textureBase = static_cast<int>(scene_.textures.size());
@@ -375,6 +380,7 @@ class SceneParser {
   static constexpr size_t kMaxSceneTriangles = size_t{1} << 26;
   size_t triangles_ = 0;
   std::string path_;
+  LoadOptions options_;
   Scene scene_;
 };
 
@@ -388,6 +394,53 @@ std::string describeParseError(const json::parse_error& e) {
   return "invalid JSON at byte " + std::to_string(e.byte) + ": " + what;
 }
 
+// Where in the text the first JSON error is, for the errors nlohmann reports without one (a number
+// out of range: "number overflow parsing '1e400'"): its SAX parser hands the byte to parse_error.
+struct ErrorPosition : nlohmann::json_sax<json> {
+  size_t byte = 0;
+  bool found = false;
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception&) override {
+    byte = position;
+    found = true;
+    return false;
+  }
+};
+
+// "number overflow parsing '1e400'" -> "invalid JSON at line 1, column 14: number overflow parsing '1e400'".
+std::string describeJsonError(const std::string& text, const json::exception& e) {
+  std::string what = e.what();
+  const size_t bracket = what.find("] ");
+  if (what.rfind("[json.exception.", 0) == 0 && bracket != std::string::npos) what = what.substr(bracket + 2);
+  ErrorPosition pos;
+  try {
+    json::sax_parse(text, &pos);
+  } catch (const std::exception&) {
+  }
+  if (!pos.found) return "invalid JSON: " + what;
+  size_t line = 1, column = 1;
+  for (size_t i = 0; i + 1 < pos.byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + what;
+}
+
 std::string lowerExtension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -396,16 +449,18 @@ std::string lowerExtension(const std::string& path) {
 
 }  // namespace
 
-Result<Scene> parseSceneFile(const std::string& text, const std::string& path) {
+Result<Scene> parseSceneFile(const std::string& text, const std::string& path, const LoadOptions& options) {
   json root;
   try {
     root = json::parse(text);
   } catch (const json::parse_error& e) {
     return Error{path, describeParseError(e)};
+  } catch (const json::exception& e) {  // a number out of range
+    return Error{path, describeJsonError(text, e)};
   }
   Scene scene;
   try {
-    scene = SceneParser(path).parse(root);
+    scene = SceneParser(path, options).parse(root);
   } catch (const Invalid& e) {
     return Error{path, e.what};
   } catch (const json::exception& e) {
@@ -417,7 +472,7 @@ Result<Scene> parseSceneFile(const std::string& text, const std::string& path) {
   return scene;
 }
 
-Result<Scene> loadSceneFile(const std::string& path) {
+Result<Scene> loadSceneFile(const std::string& path, const LoadOptions& options) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return Error{path, "cannot open file"};
   std::ifstream in(path, std::ios::binary);
@@ -425,13 +480,15 @@ Result<Scene> loadSceneFile(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) return Error{path, "cannot read file"};
-  return parseSceneFile(text.str(), path);
+  Result<Scene> scene = parseSceneFile(text.str(), path, options);
+  if (scene) scene->sourceFiles.insert(scene->sourceFiles.begin(), fs::weakly_canonical(path, ec).string());
+  return scene;
 }
 
-Result<Scene> loadScene(const std::string& path) {
+Result<Scene> loadScene(const std::string& path, const LoadOptions& options) {
   const std::string ext = lowerExtension(path);
-  if (ext == ".gltf" || ext == ".glb") return loadGltf(path);
-  if (ext == ".json") return loadSceneFile(path);
+  if (ext == ".gltf" || ext == ".glb") return loadGltf(path, options);
+  if (ext == ".json") return loadSceneFile(path, options);
   return Error{path, "unknown scene file type (expected .gltf, .glb or .json)"};
 }
 

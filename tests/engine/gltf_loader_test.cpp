@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -305,7 +306,7 @@ TEST_F(GltfLoader, PointsAndLinesAreSkippedAndCounted) {
                       {{"attributes", {{"POSITION", pos}}}, {"mode", 0}}}));
   g.node({{"mesh", 0}});
   GltfLoadStats stats;
-  Result<Scene> r = loadGltf(write("mixed.gltf", g.text()), stats);
+  Result<Scene> r = loadGltf(write("mixed.gltf", g.text()), {}, stats);
   ASSERT_TRUE(r.ok()) << r.error().line();
   EXPECT_EQ(r->meshes.size(), 1u);
   EXPECT_EQ(r->instances.size(), 1u);
@@ -694,6 +695,162 @@ TEST_F(GltfLoader, CorruptedGlbNeverCrashes) {
   }
   EXPECT_GT(failed, 0);
   EXPECT_GT(loaded, 0);
+}
+
+}  // namespace
+}  // namespace penumbra::engine
+
+namespace penumbra::engine {
+namespace {
+
+// The model's folder bounds what it may read: buffers and images named outside it (climbing out,
+// absolute, through a link, or only in the current folder) are refused before anything is read,
+// unless allowed; sizes are checked before reading; buffers nothing uses are never read.
+class GltfFiles : public testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() / ("penumbra-gltf-files-" + std::to_string(::getpid()) + "-" +
+                                         testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(root_);
+    fs::create_directories(root_ / "model");
+    fs::create_directories(root_ / "elsewhere");
+  }
+  void TearDown() override { fs::remove_all(root_); }
+  // The triangle with its buffer in bin file `uri` (relative to model/), written at `where`.
+  std::string model(const std::string& uri, const fs::path& where) {
+    const Gltf g = triangle();
+    std::ofstream(where, std::ios::binary).write(reinterpret_cast<const char*>(g.bin.data()),
+                                                 static_cast<std::streamsize>(g.bin.size()));
+    const std::string file = (root_ / "model" / "m.gltf").string();
+    std::ofstream(file) << g.textWithExternalBuffer(uri);
+    return file;
+  }
+  fs::path root_;
+};
+
+TEST_F(GltfFiles, BuffersOutsideTheFolderAreRefusedUnlessAllowed) {
+  const std::string climb = model("../elsewhere/b.bin", root_ / "elsewhere" / "b.bin");
+  Result<Scene> r = loadGltf(climb);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().what.find("buffer 0 ('../elsewhere/b.bin') resolves outside the file's folder"), std::string::npos)
+      << r.error().line();
+  EXPECT_EQ(r.error().what.find("bytes"), std::string::npos) << "reveals the file's size: " << r.error().line();
+  EXPECT_TRUE(loadGltf(climb, {.allowOutsidePaths = true}).ok());
+  // Absolute.
+  const std::string absolute = model((root_ / "elsewhere" / "b.bin").string(), root_ / "elsewhere" / "b.bin");
+  r = loadGltf(absolute);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().what.find("is an absolute path"), std::string::npos) << r.error().line();
+  // A link inside the folder that leads out.
+  fs::create_symlink(root_ / "elsewhere" / "b.bin", root_ / "model" / "link.bin");
+  r = loadGltf(model("link.bin", root_ / "elsewhere" / "b.bin"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().what.find("outside the file's folder"), std::string::npos) << r.error().line();
+  // A scheme.
+  r = loadGltf(model("file:///etc/passwd", root_ / "elsewhere" / "b.bin"));
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().what.find("URI scheme 'file' is not supported"), std::string::npos) << r.error().line();
+  // Inside: fine, and listed among the scene's files.
+  const std::string inside = model("sub%20dir/b.bin", root_ / "model" / "sub dir" / "b.bin");
+  fs::create_directories(root_ / "model" / "sub dir");
+  model("sub%20dir/b.bin", root_ / "model" / "sub dir" / "b.bin");
+  Result<Scene> ok = loadGltf(inside);
+  ASSERT_TRUE(ok.ok()) << ok.error().line();
+  ASSERT_EQ(ok->sourceFiles.size(), 2u);
+  EXPECT_EQ(fs::path(ok->sourceFiles[1]).filename(), "b.bin");
+}
+
+TEST_F(GltfFiles, NotLookedForInTheCurrentFolder) {
+  // tinygltf looks for a URI in the current folder when the model's folder lacks it.
+  const fs::path cwd = fs::current_path();
+  fs::current_path(root_ / "elsewhere");
+  const std::string file = model("only-here.bin", root_ / "elsewhere" / "only-here.bin");
+  const Result<Scene> r = loadGltf(file);
+  fs::current_path(cwd);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().what.find("missing or not a regular file"), std::string::npos) << r.error().line();
+}
+
+TEST_F(GltfFiles, SizesAreCheckedBeforeReadingAndUnusedBuffersAreNotRead) {
+  // A 3 GiB sparse file: reading it would take seconds and gigabytes.
+  const fs::path huge = root_ / "model" / "huge.bin";
+  std::ofstream(huge).close();
+  fs::resize_file(huge, uint64_t{3} << 30);
+  Gltf g = triangle();
+  {
+    std::ofstream(root_ / "model" / "b.bin", std::ios::binary)
+        .write(reinterpret_cast<const char*>(g.bin.data()), static_cast<std::streamsize>(g.bin.size()));
+  }
+  // Used, with the wrong size: reported from the file's size, not read.
+  json d = g.doc;
+  d["buffers"] = json::array({{{"byteLength", g.bin.size()}, {"uri", "huge.bin"}}});
+  const std::string wrong = (root_ / "model" / "wrong.gltf").string();
+  std::ofstream(wrong) << d.dump();
+  const auto t0 = std::chrono::steady_clock::now();
+  Result<Scene> r = loadGltf(wrong);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().what.find("the file holds 3221225472 bytes, the buffer's byteLength is " + std::to_string(g.bin.size())),
+            std::string::npos)
+      << r.error().line();
+  // Unused: never read, and counted.
+  d["buffers"] = json::array({{{"byteLength", g.bin.size()}, {"uri", "b.bin"}}, {{"byteLength", uint64_t{3} << 30}, {"uri", "huge.bin"}}});
+  const std::string unused = (root_ / "model" / "unused.gltf").string();
+  std::ofstream(unused) << d.dump();
+  GltfLoadStats stats;
+  r = loadGltf(unused, {}, stats);
+  ASSERT_TRUE(r.ok()) << r.error().line();
+  EXPECT_EQ(stats.buffersSkipped, 1);
+  EXPECT_EQ(r->sourceFiles.size(), 2u);  // the model and b.bin: not huge.bin
+  // The same in a .glb, whose JSON chunk is rewritten around the BIN chunk.
+  json gd = g.doc;
+  gd["buffers"] = json::array({{{"byteLength", g.bin.size()}}, {{"byteLength", uint64_t{3} << 30}, {"uri", "huge.bin"}}});
+  Gltf h = g;
+  h.doc = gd;
+  std::vector<unsigned char> glb = h.glb();  // glb() sets buffer 0 to the BIN chunk; add buffer 1 back
+  {
+    json j = gd;
+    std::string js = j.dump();
+    while (js.size() % 4) js += ' ';
+    std::vector<unsigned char> bin = g.bin;
+    while (bin.size() % 4) bin.push_back(0);
+    glb.clear();
+    auto u32 = [&](uint32_t v) {
+      for (int i = 0; i < 4; ++i) glb.push_back(static_cast<unsigned char>(v >> (8 * i)));
+    };
+    for (char c : {'g', 'l', 'T', 'F'}) glb.push_back(static_cast<unsigned char>(c));
+    u32(2);
+    u32(static_cast<uint32_t>(12 + 8 + js.size() + 8 + bin.size()));
+    u32(static_cast<uint32_t>(js.size()));
+    u32(0x4E4F534Au);
+    glb.insert(glb.end(), js.begin(), js.end());
+    u32(static_cast<uint32_t>(bin.size()));
+    u32(0x004E4942u);
+    glb.insert(glb.end(), bin.begin(), bin.end());
+  }
+  const std::string glbFile = (root_ / "model" / "unused.glb").string();
+  std::ofstream(glbFile, std::ios::binary).write(reinterpret_cast<const char*>(glb.data()), static_cast<std::streamsize>(glb.size()));
+  r = loadGltf(glbFile, {}, stats);
+  ASSERT_TRUE(r.ok()) << r.error().line();
+  EXPECT_EQ(stats.buffersSkipped, 1);
+  ASSERT_EQ(r->meshes.size(), 1u);
+  EXPECT_EQ(r->meshes[0].indices.size(), 3u);
+  // All of it without reading 3 GiB (seconds per GiB): a generous bound, not a timing.
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 20.0);
+}
+
+TEST_F(GltfFiles, ImagesOutsideTheFolderFailOnlyWhenUsed) {
+  std::ofstream(root_ / "elsewhere" / "t.png") << "x";
+  Gltf g = texturedTriangles({{"uri", "../elsewhere/t.png"}});
+  const std::string used = (root_ / "model" / "used.gltf").string();
+  std::ofstream(used) << g.text();
+  const Result<Scene> r = loadGltf(used);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().what.find("image 0 ('../elsewhere/t.png') resolves outside"), std::string::npos) << r.error().line();
+  Gltf u = triangle();
+  u.doc["images"] = json::array({{{"uri", "../elsewhere/t.png"}}});
+  const std::string unused = (root_ / "model" / "unused.gltf").string();
+  std::ofstream(unused) << u.text();
+  EXPECT_TRUE(loadGltf(unused).ok());
 }
 
 }  // namespace

@@ -217,10 +217,18 @@ TEST_F(SceneFile, RelativeGltfReferenceWithTransform) {
   const std::string scene = write("scenes/main.json", json({{"gltf", {{{"file", "../models/tri.gltf"}, {"transform", {{"translate", {0, 1, 0}}, {"scale", 2}}}}}},
                                                             {"objects", {{{"shape", "box"}, {"material", {{"color", {1, 0, 0}}}}}}}})
                                                            .dump());
-  Result<Scene> r = loadScene(scene);
+  // Outside the scene file's folder: refused unless allowed.
+  const Result<Scene> refused = loadScene(scene);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().what.find("outside the file's folder"), std::string::npos) << refused.error().line();
+  Result<Scene> r = loadScene(scene, {.allowOutsidePaths = true});
   ASSERT_TRUE(r.ok()) << r.error().line();
   const Scene& s = *r;
   EXPECT_EQ(s.name, "main");
+  // Every file read is listed (outputs must not overwrite them).
+  ASSERT_EQ(s.sourceFiles.size(), 2u);
+  EXPECT_EQ(fs::path(s.sourceFiles[0]).filename(), "main.json");
+  EXPECT_EQ(fs::path(s.sourceFiles[1]).filename(), "tri.gltf");
   ASSERT_EQ(s.meshes.size(), 2u);
   ASSERT_EQ(s.materials.size(), 2u);
   ASSERT_EQ(s.instances.size(), 2u);
@@ -232,16 +240,20 @@ TEST_F(SceneFile, RelativeGltfReferenceWithTransform) {
   ASSERT_TRUE(s.camera.has_value());
   expectVec(s.camera->eye, {0, 1, 6});
   expectVec(glm::normalize(s.camera->target - s.camera->eye), {0, 0, -1});
-  // An absolute path works too, and a camera in the scene file wins over the glTF one.
-  const Scene t = parse({{"gltf", {{{"file", (dir_ / "models" / "tri.gltf").string()}}}}, {"camera", {{"eye", {9, 9, 9}}}}});
-  ASSERT_EQ(t.meshes.size(), 1u);
-  expectVec(t.camera->eye, {9, 9, 9});
+  // An absolute path is refused too, unless allowed; a camera in the scene file wins over the
+  // glTF one.
+  const json withAbsolute = {{"gltf", {{{"file", (dir_ / "models" / "tri.gltf").string()}}}}, {"camera", {{"eye", {9, 9, 9}}}}};
+  error(withAbsolute, "is an absolute path");
+  Result<Scene> t = parseSceneFile(withAbsolute.dump(), (dir_ / "scene.json").string(), {.allowOutsidePaths = true});
+  ASSERT_TRUE(t.ok()) << t.error().line();
+  ASSERT_EQ(t->meshes.size(), 1u);
+  expectVec(t->camera->eye, {9, 9, 9});
 }
 
 TEST_F(SceneFile, BrokenGltfReferenceNamesBothFiles) {
   const std::string what = error(json({{"gltf", {{{"file", "nowhere.glb"}}}}}), "gltf[0].file");
   EXPECT_NE(what.find("nowhere.glb"), std::string::npos);
-  EXPECT_NE(what.find("cannot open file"), std::string::npos);
+  EXPECT_NE(what.find("missing or not a regular file"), std::string::npos);
   write("bad.gltf", "{ nope");
   error(json({{"gltf", {{{"file", "bad.gltf"}}}}}), "not a glTF file");
   error(json({{"gltf", {{{"transform", {{"scale", 1}}}}}}}), "gltf[0].file is required");
@@ -350,7 +362,8 @@ TEST_F(SceneFile, DocumentedExamplesAreValid) {
       if (block.find("...") != std::string::npos) continue;  // the outline, not an example
       Result<Scene> r = parseSceneFile(block, (dir_ / "example.json").string());
       if (!r.ok()) {
-        EXPECT_NE(r.error().what.find("cannot open file"), std::string::npos) << r.error().line() << "\n" << block;
+        EXPECT_NE(r.error().what.find("missing or not a regular file"), std::string::npos) << r.error().line() << "\n"
+                                                                                          << block;
       }
       ++checked;
     } else if (inBlock) {
@@ -358,6 +371,22 @@ TEST_F(SceneFile, DocumentedExamplesAreValid) {
     }
   }
   EXPECT_GE(checked, 11);  // one per feature and the complete example
+}
+
+}  // namespace
+}  // namespace penumbra::engine
+
+namespace penumbra::engine {
+namespace {
+
+// A number JSON cannot hold in a double is an error naming the file and where the number is.
+TEST(SceneFileNumbers, OutOfRangeNumberNamesFileAndPosition) {
+  const Result<Scene> r = parseSceneFile("{\n  \"ambient\": [1e400, 0, 0]\n}", "s.json");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().where, "s.json");
+  EXPECT_NE(r.error().what.find("line 2, column"), std::string::npos) << r.error().line();
+  EXPECT_NE(r.error().what.find("1e400"), std::string::npos) << r.error().line();
+  EXPECT_EQ(r.error().what.find("json.exception"), std::string::npos) << r.error().line();
 }
 
 }  // namespace
