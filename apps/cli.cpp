@@ -13,10 +13,14 @@
 
 namespace penumbra::apps {
 
-std::pair<std::string, engine::Scene> loadSceneArgument(const std::string& name) {
+std::pair<std::string, engine::Scene> loadSceneArgument(const std::string& name, const engine::LoadOptions& options,
+                                                        const std::string& option) {
   const bool isFile = name.find('.') != std::string::npos || name.find('/') != std::string::npos;
-  engine::Result<engine::Scene> s = isFile ? engine::loadScene(name) : engine::makeBuiltinScene(name);
-  if (!s) fail(s.error());
+  engine::Result<engine::Scene> s = isFile ? engine::loadScene(name, options) : engine::makeBuiltinScene(name);
+  if (!s) {
+    if (isFile) fail(s.error());
+    fail("option " + option, s.error().line());
+  }
   return {isFile ? std::filesystem::path(name).stem().string() : name, std::move(*s)};
 }
 
@@ -24,6 +28,20 @@ engine::ResolvedOptions resolveOrFail(const engine::RenderOptions& options) {
   engine::Result<engine::ResolvedOptions> r = engine::resolveOptions(options);
   if (!r) fail(r.error());
   return std::move(*r);
+}
+
+void refuseOverwritingInputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {
+  namespace fs = std::filesystem;
+  for (const std::string& out : outputs) {
+    if (out.empty()) continue;
+    std::error_code ec;
+    const fs::path o = fs::weakly_canonical(out, ec);
+    for (const std::string& in : inputs) {
+      std::error_code e1, e2;
+      const bool same = (fs::exists(out, e1) && fs::equivalent(out, in, e2)) || (!ec && o == fs::weakly_canonical(in, e2));
+      if (same) fail(out, "is an input of this run (" + in + "): refusing to overwrite it");
+    }
+  }
 }
 
 glm::vec3 parseVec3(const std::string& option, const std::string& text) {

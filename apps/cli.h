@@ -12,8 +12,10 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "engine/error.h"
+#include "engine/file_access.h"
 #include "engine/render_options.h"
 #include "engine/scene.h"
 
@@ -68,7 +70,12 @@ glm::vec3 parseVec3(const std::string& option, const std::string& text);
 
 // A bench's --scene argument: a built-in scene's name, or a scene file when it holds a '.' or a
 // '/' (then labelled by its stem). Bad names and files are a UsageError.
-std::pair<std::string, engine::Scene> loadSceneArgument(const std::string& name);
+std::pair<std::string, engine::Scene> loadSceneArgument(const std::string& name, const engine::LoadOptions& options,
+                                                        const std::string& option = "--scene");
+
+// Outputs may not be any file the inputs were read from (a scene's files, a points file): a
+// UsageError naming the output.
+void refuseOverwritingInputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs);
 
 // Progress on stderr: one line per step (overwritten in place on a terminal). With a delay, steps
 // are shown only once the task has run that many seconds (quick commands stay quiet).

@@ -53,7 +53,7 @@ int runBenchRaster(const BenchRasterArgs& a) {
   // Load everything first: bad input fails before any run.
   std::vector<std::pair<std::string, engine::Mesh>> meshes;
   for (const std::string& path : a.meshes) {
-    engine::Result<engine::Scene> scene = engine::loadScene(path);
+    engine::Result<engine::Scene> scene = engine::loadScene(path, {.allowOutsidePaths = a.allowOutsidePaths});
     if (!scene) fail(scene.error());
     engine::Mesh m = flatten(*scene);
     if (m.indices.empty()) fail(path, "the scene holds no triangles");

@@ -78,7 +78,7 @@ int runBenchShadows(const BenchShadowsArgs& a) {
   if (sceneNames.empty()) sceneNames = {"contact", "fusion", "thin", "complex", "biglight"};
   std::vector<std::pair<std::string, engine::Scene>> scenes;
   for (const std::string& name : sceneNames) {
-    scenes.push_back(loadSceneArgument(name));
+    scenes.push_back(loadSceneArgument(name, {.allowOutsidePaths = a.allowOutsidePaths}));
     if (scenes.back().second.areaLights.empty()) fail(name, "the scene has no area light to benchmark");
   }
   // (technique, parameter list) pairs: the registry's bench settings, or the ones asked for.

@@ -162,7 +162,7 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
   resolveOrFail(base);
   std::vector<std::pair<std::string, engine::Scene>> scenes;
   for (const std::string& name : a.scenes.empty() ? std::vector<std::string>{"motion", "defocus", "motion-defocus"} : a.scenes)
-    scenes.push_back(loadSceneArgument(name));
+    scenes.push_back(loadSceneArgument(name, {.allowOutsidePaths = a.allowOutsidePaths}));
   const std::filesystem::path out(a.out);
   std::error_code ec;
   std::filesystem::create_directories(out, ec);

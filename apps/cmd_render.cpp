@@ -142,7 +142,7 @@ int runRender(const RenderArgs& a) {
   Progress progress("render", 2.0);
   engine::Result<engine::Scene> scene = a.scene.empty()
                                             ? engine::makeBuiltinScene(a.builtin.empty() ? engine::kDefaultScene : a.builtin)
-                                            : engine::loadScene(a.scene);
+                                            : engine::loadScene(a.scene, {.allowOutsidePaths = a.allowOutsidePaths});
   if (!scene) fail(scene.error());
   // Default output: <scene file stem or built-in name>.png in the current folder, in safe characters.
   std::string path = a.output.value_or("");
@@ -152,6 +152,12 @@ int runRender(const RenderArgs& a) {
     for (char& ch : stem)
       if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_' && ch != '.') ch = '_';
     path = (stem.empty() ? std::string("penumbra") : stem) + ".png";
+  }
+  {
+    std::vector<std::string> inputs = scene->sourceFiles;
+    if (!a.pointsFile.empty()) inputs.push_back(a.pointsFile);
+    if (!a.cache.empty()) inputs.push_back(a.cache);
+    refuseOverwritingInputs({path, a.exr}, inputs);
   }
   if (a.points) return renderPoints(a, *scene, eye, target, path);
 

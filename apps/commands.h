@@ -38,6 +38,7 @@ struct RenderArgs {
   int dualBlock = 4;                  // dual-space block side, power of 2 in [1, 64]
   bool noStaticPath = false;          // static instances through the stochastic pass too
   std::optional<double> aperture, focus;  // override the camera's lens (none: the scene's)
+  bool allowOutsidePaths = false;     // files may name files outside their own folder
 };
 int runRender(const RenderArgs& args);
 // render --points: checks the point options (and that none is given without --points), then, once
@@ -54,6 +55,7 @@ struct BenchRasterArgs {
   int frames = 10;
   double minSeconds = 1.0;
   bool json = false;
+  bool allowOutsidePaths = false;
 };
 int runBenchRaster(const BenchRasterArgs& args);
 
@@ -64,6 +66,7 @@ struct BenchShadowsArgs {
   int width = 480, height = 270, runs = 3, gtSamples = 1024, threads = 0;
   std::string out = "out/bench-shadows", cache;
   bool json = false;
+  bool allowOutsidePaths = false;
 };
 int runBenchShadows(const BenchShadowsArgs& args);
 
@@ -75,6 +78,7 @@ struct BenchStochasticArgs {
   std::string shadow = "none";       // shadow technique of the frames (default none: the error is the blur's)
   std::string out = "out/bench-stochastic";
   bool json = false;
+  bool allowOutsidePaths = false;
 };
 int runBenchStochastic(const BenchStochasticArgs& args);
 

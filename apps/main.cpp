@@ -66,6 +66,8 @@ int main(int argc, char** argv) {
               "Send static instances through the stochastic pass too (to measure what the ordinary path saves)");
   r->add_option("--aperture", render.aperture,
                 "Lens aperture radius in world units " + engine::kApertureOption.range() + " (0 = pinhole; default: the scene's)");
+  r->add_flag("--allow-outside-paths", render.allowOutsidePaths,
+              "Let scene and glTF files name files outside their own folder (absolute or ../ paths)");
   r->add_option("--focus", render.focus, "Focus distance in world units " + engine::kFocusOption.range() + " (default: the scene's)");
 
   BenchRasterArgs bench;
@@ -79,6 +81,7 @@ int main(int argc, char** argv) {
   br->add_option("--frames", bench.frames, "Minimum timed frames per run (default 10)");
   br->add_option("--min-time", bench.minSeconds, "Minimum seconds per run (default 1)");
   br->add_flag("--json", bench.json, "One JSON object per run on stdout");
+  br->add_flag("--allow-outside-paths", bench.allowOutsidePaths, "Let --mesh files name files outside their folder");
 
   BenchShadowsArgs benchShadows;
   CLI::App* bs = b->add_subcommand("shadows", "Soft-shadow techniques: run time per stage against error vs the ground truth");
@@ -95,6 +98,7 @@ int main(int argc, char** argv) {
   bs->add_option("--out", benchShadows.out, "Report folder (default out/bench-shadows)");
   bs->add_option("--cache", benchShadows.cache, "Ground-truth cache folder (default <out>/gt-cache)");
   bs->add_flag("--json", benchShadows.json, "One JSON object per (scene, technique, setting) on stdout");
+  bs->add_flag("--allow-outside-paths", benchShadows.allowOutsidePaths, "Let scene files name files outside their folder");
 
   BenchStochasticArgs benchStoch;
   CLI::App* bst = b->add_subcommand(
@@ -113,6 +117,7 @@ int main(int argc, char** argv) {
   bst->add_option("--threads", benchStoch.threads, "Worker threads " + engine::kThreadsOption.range() + " (0 = all cores)");
   bst->add_option("--out", benchStoch.out, "Report folder (default out/bench-stochastic)");
   bst->add_flag("--json", benchStoch.json, "One JSON object per run on stdout");
+  bst->add_flag("--allow-outside-paths", benchStoch.allowOutsidePaths, "Let scene files name files outside their folder");
 
   BenchPointsArgs benchPoints;
   CLI::App* bp =

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <glm/geometric.hpp>
@@ -167,12 +168,24 @@ engine::Result<XyzCloud> readXyz(const std::string& path) {
       std::string_view s = f[static_cast<size_t>(k)];
       if (s.size() > 1 && s[0] == '+' && s[1] != '+' && s[1] != '-')
         s.remove_prefix(1);  // from_chars takes no '+'
-      const auto [end, err] = std::from_chars(s.data(), s.data() + s.size(), xyz[k]);
-      if (err == std::errc::result_out_of_range)
-        return bad("coordinate " + quoted(s) + " is out of the float range");
-      if (err != std::errc() || end != s.data() + s.size())
+      // Parsed as double, then rounded to float: a magnitude too small for a float becomes 0 (or a
+      // subnormal) whatever its exponent; one too large for a float is an error.
+      double v = 0.0;
+      const auto [end, err] = std::from_chars(s.data(), s.data() + s.size(), v);
+      if (err != std::errc() && err != std::errc::result_out_of_range)
         return bad("coordinate " + quoted(s) + " is not a number");
-      if (!std::isfinite(xyz[k])) return bad("coordinate " + quoted(s) + " is not finite");
+      if (end != s.data() + s.size()) return bad("coordinate " + quoted(s) + " is not a number");
+      if (err == std::errc::result_out_of_range) {
+        // Out of double's range: below its smallest subnormal (a tiny exponent) is 0; above is too large.
+        const size_t e = s.find_first_of("eE");
+        const bool tiny = e != std::string_view::npos && e + 1 < s.size() && s[e + 1] == '-';
+        if (!tiny) return bad("coordinate " + quoted(s) + " is out of the float range");
+        v = 0.0;
+      }
+      if (!std::isfinite(v)) return bad("coordinate " + quoted(s) + " is not finite");
+      if (std::abs(v) > static_cast<double>(std::numeric_limits<float>::max()))
+        return bad("coordinate " + quoted(s) + " is out of the float range");
+      xyz[k] = static_cast<float>(v);
     }
     uint8_t rgb[3] = {255, 255, 255};
     for (size_t k = 0; k < 3 && f.size() == 6; ++k) {

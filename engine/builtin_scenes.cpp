@@ -329,7 +329,7 @@ Result<Scene> makeBuiltinScene(const std::string& name) {
       if (!names.empty()) names += ", ";
       names += b.name;
     }
-    return Error{"--builtin " + name, "unknown built-in scene (valid: " + names + ")"};
+    return Error{"built-in scene '" + name + "'", "unknown (valid: " + names + ")"};
   }
   Status st = validateScene(s, "built-in scene " + name);
   if (!st) return st.error();

@@ -313,6 +313,40 @@ TEST_F(Cli, RenderPointsRejectsMalformedFilesAndOptions) {
   expectBadInput("render --points --exr " + path("x.exr") + " -o " + o, "--exr", o);
 }
 
+// An output that is one of the run's inputs is refused before anything is written.
+TEST_F(Cli, OutputsNeverOverwriteInputs) {
+  write("pts.png", "0 0 0\n1 1 1\n");  // a points file with a .png name
+  CliResult r = run("render --points --points-file " + path("pts.png") + " --width 8 --height 8 -o " + path("pts.png"));
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("refusing to overwrite"), std::string::npos) << r.out;
+  std::ifstream in(path("pts.png"));
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "0 0 0\n1 1 1\n");
+  // A scene file as the EXR (a link to it counts too).
+  write("s.json", "{\"objects\": [{\"shape\": \"box\"}]}");
+  fs::create_symlink(path("s.json"), path("s.exr"));
+  r = run("render " + path("s.json") + " --width 8 --height 8 --exr " + path("s.exr") + " -o " + path("o.png"));
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("refusing to overwrite"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(path("o.png")));
+}
+
+TEST_F(Cli, XyzMagnitudesAreJudgedAsFloats) {
+  const std::string o = path("o.png");
+  write("tiny.xyz", "1e-50 0 0\n1e-39 0 1\n1e-400 1 0\n");
+  const CliResult r = run("render --points --width 8 --height 8 -o " + o + " --points-file " + path("tiny.xyz"));
+  EXPECT_EQ(r.status, 0) << r.out;  // all three tiny values are (almost) 0, alike
+  fs::remove(o);
+  write("big.xyz", "1e39 0 0\n");
+  expectBadInput("render --points --width 8 --height 8 -o " + path("b.png") + " --points-file " + path("big.xyz"),
+                 "out of the float range", path("b.png"));
+}
+
+TEST_F(Cli, UnknownBenchSceneNamesTheOption) {
+  expectBadInput("bench shadows --scene nosuch --out " + path("b"), "option --scene", path("o.png"));
+  const CliResult r = run("bench shadows --scene nosuch --out " + path("b"));
+  EXPECT_EQ(r.out.find("--builtin"), std::string::npos) << r.out;
+}
+
 TEST_F(Cli, BenchPointsPrintsOneJsonObjectPerRun) {
   const CliResult r = run("bench points --points 100000 --views 1,4 --runs 1 --json");
   ASSERT_EQ(r.status, 0) << r.out;
