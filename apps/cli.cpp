@@ -64,8 +64,8 @@ void Progress::step(int index, int total, const std::string& what) {
   if (s < delay_) return;
   if (!any_) tty_ = isatty(STDERR_FILENO) != 0;
   any_ = true;
-  std::fprintf(stderr, "%s[%s %d/%d %.0fs] %s%s", tty_ ? "\r\033[K" : "", task_.c_str(), index, total, s, what.c_str(),
-               tty_ ? "" : "\n");
+  if (!tty_) return;
+  std::fprintf(stderr, "\r\033[K[%s %d/%d %.0fs] %s", task_.c_str(), index, total, s, what.c_str());
   std::fflush(stderr);
 }
 

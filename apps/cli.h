@@ -77,8 +77,10 @@ std::pair<std::string, engine::Scene> loadSceneArgument(const std::string& name,
 // UsageError naming the output.
 void refuseOverwritingInputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs);
 
-// Progress on stderr: one line per step (overwritten in place on a terminal). With a delay, steps
-// are shown only once the task has run that many seconds (quick commands stay quiet).
+// Progress on stderr, for a person watching: on a terminal only, one line overwritten in place per
+// step and cleared when done (or by the error line). Elsewhere (a pipe, a log, a test) nothing, so
+// a failure is exactly one line. With a delay, steps are shown only once the task has run that
+// many seconds (quick commands stay quiet).
 class Progress {
  public:
   explicit Progress(std::string task, double delaySeconds = 0.0) : task_(std::move(task)), delay_(delaySeconds) {}

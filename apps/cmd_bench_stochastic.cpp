@@ -169,12 +169,14 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
   if (ec) fail(a.out, "cannot create the report folder: " + ec.message());
 
   const ThreadLimit threadLimit(a.threads);
+  Progress progress("bench stochastic");
+  int step = 0;
   engine::Renderer renderer(a.threads);
   std::vector<Row> rows;
   Json scenesJson = Json::array();
   std::string html;
   for (auto& [name, scene] : scenes) {
-    std::fprintf(stderr, "bench stochastic: %s: accumulation reference (%d frames)\n", name.c_str(), a.refFrames);
+    progress.step(++step, static_cast<int>(scenes.size()), name + ": accumulation reference (" + std::to_string(a.refFrames) + " frames), then the runs");
     const auto t0 = std::chrono::steady_clock::now();
     engine::Result<raster::ImageFloat4> refFrame = engine::accumulationReference(renderer, scene, base, a.refFrames);
     if (!refFrame) fail(refFrame.error());
@@ -261,7 +263,8 @@ int runBenchStochastic(const BenchStochasticArgs& a) {
             engine::report::htmlPage("Stochastic rasterization: run time against error",
                                      "<p>Data: <a href=\"results.json\">results.json</a>, "
                                      "<a href=\"results.csv\">results.csv</a>.</p>\n" + html));
-  std::fprintf(stderr, "bench stochastic: report in %s/index.html\n", a.out.c_str());
+  progress.done();
+  if (!a.json) std::printf("wrote %s/index.html\n", a.out.c_str());
   return 0;
 }
 

@@ -7,21 +7,59 @@
 //   stress  raster: sweep the numerically hard cases and report what broke
 // Bad input (files, options, values) ends with one line on stderr and exit status 2, before any
 // output file is written.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "engine/atomic_file.h"
 #include "engine/builtin_scenes.h"
 #include "engine/render_options.h"
 
 using namespace penumbra;
 using namespace penumbra::apps;
 
+namespace {
+
+// SIGINT / SIGTERM: the temporaries of files being written are removed (a partial output never
+// stays behind), one line says so, and the process exits 128 + the signal (130, 143). Only
+// async-signal-safe calls.
+extern "C" void onSignal(int sig) {
+  penumbra::engine::removeTempFilesOnSignal();
+  const char* msg = sig == SIGINT ? "\r\033[Kpenumbra: interrupted (SIGINT); no output left half-written\n"
+                                  : "\r\033[Kpenumbra: terminated (SIGTERM); no output left half-written\n";
+  const char* text = isatty(STDERR_FILENO) ? msg : msg + 4;  // no terminal control codes in a log
+  size_t n = 0;
+  while (text[n] != '\0') ++n;
+  ssize_t ignored = ::write(STDERR_FILENO, text, n);
+  (void)ignored;
+  ::_exit(128 + sig);
+}
+
+void installSignalHandlers() {
+  struct sigaction sa {};
+  sa.sa_handler = onSignal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+// The error line, after clearing a progress line on a terminal.
+void printError(const std::string& line, const char* hint = "") {
+  std::fprintf(stderr, "%spenumbra: error: %s%s\n", isatty(STDERR_FILENO) ? "\r\033[K" : "", line.c_str(), hint);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  installSignalHandlers();
   CLI::App app{"penumbra: a deterministic CPU rasterizer and soft-shadow laboratory"};
+  app.set_version_flag("--version", std::string("penumbra ") + PENUMBRA_VERSION);
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show help for all subcommands");
 
@@ -148,7 +186,7 @@ int main(int argc, char** argv) {
     const std::string sub = argv[1];
     if (sub != "render" && sub != "bench" && sub != "stress" && sub != "explain") {
       const engine::Error e{"", "unknown subcommand '" + sub + "' (valid: render, bench, stress, explain)"};
-      std::fprintf(stderr, "penumbra: error: %s\n", e.line().c_str());
+      printError(e.line());
       return kExitBadInput;
     }
   }
@@ -158,8 +196,10 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "penumbra: error: %s (see penumbra --help)\n", engine::Error{"", e.what()}.line().c_str());
+    printError(engine::Error{"", e.what()}.line(), " (see penumbra --help)");
     return kExitBadInput;
   }
 
@@ -172,13 +212,13 @@ int main(int argc, char** argv) {
     if (s->parsed()) return runStress(stress);
     if (ex->parsed()) return runExplain(explain);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "penumbra: error: %s\n", e.error.line().c_str());
+    printError(e.error.line());
     return kExitBadInput;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "penumbra: error: out of memory\n");
+    printError("out of memory");
     return kExitBadInput;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "penumbra: error: %s\n", engine::Error{"", e.what()}.line().c_str());
+    printError(engine::Error{"", e.what()}.line());
     return kExitBadInput;
   }
   return 0;

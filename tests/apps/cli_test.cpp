@@ -1,6 +1,8 @@
 // End-to-end tests of the `penumbra` command line: bad input gets one line naming the problem,
 // exit status 2 and no output file; good input works.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <tbb/task_arena.h>
 
@@ -30,6 +32,13 @@ struct CliResult {
   int status = -1;
   std::string out;  // stdout and stderr together
 };
+
+std::string readText(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
 
 CliResult run(const std::string& args) {
   const std::string cmd = std::string(PENUMBRA_BIN) + " " + args + " 2>&1";
@@ -319,8 +328,7 @@ TEST_F(Cli, OutputsNeverOverwriteInputs) {
   CliResult r = run("render --points --points-file " + path("pts.png") + " --width 8 --height 8 -o " + path("pts.png"));
   EXPECT_EQ(r.status, 2) << r.out;
   EXPECT_NE(r.out.find("refusing to overwrite"), std::string::npos) << r.out;
-  std::ifstream in(path("pts.png"));
-  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "0 0 0\n1 1 1\n");
+  EXPECT_EQ(readText(path("pts.png")), "0 0 0\n1 1 1\n");
   // A scene file as the EXR (a link to it counts too).
   write("s.json", "{\"objects\": [{\"shape\": \"box\"}]}");
   fs::create_symlink(path("s.json"), path("s.exr"));
@@ -345,6 +353,42 @@ TEST_F(Cli, UnknownBenchSceneNamesTheOption) {
   expectBadInput("bench shadows --scene nosuch --out " + path("b"), "option --scene", path("o.png"));
   const CliResult r = run("bench shadows --scene nosuch --out " + path("b"));
   EXPECT_EQ(r.out.find("--builtin"), std::string::npos) << r.out;
+}
+
+// SIGTERM and SIGINT in the middle of a render: one line, exit 128 + signal, no file left (the
+// output nor a temporary). The temporaries of a write in progress are removed by the same handler
+// (tests/engine/atomic_file_test.cpp).
+TEST_F(Cli, SignalsLeaveNoFileAndExit128PlusTheSignal) {
+  for (int sig : {SIGTERM, SIGINT}) {
+    const std::string out = path("big.png"), log = path("log.txt");
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      ::dup2(fd, 1);
+      ::dup2(fd, 2);
+      ::execl(PENUMBRA_BIN, PENUMBRA_BIN, "render", "--builtin", "complex", "--width", "4096", "--height", "4096",
+              "--shadow", "mvr", "-o", out.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    ::usleep(1500 * 1000);
+    ::kill(pid, sig);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
+    const std::string text = readText(log);
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+    EXPECT_NE(text.find(sig == SIGTERM ? "terminated (SIGTERM)" : "interrupted (SIGINT)"), std::string::npos) << text;
+    fs::remove(log);
+    for (const auto& e : fs::directory_iterator(dir_)) ADD_FAILURE() << "left behind: " << e.path();
+  }
+}
+
+TEST_F(Cli, Version) {
+  const CliResult r = run("--version");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.out.rfind("penumbra ", 0), 0u) << r.out;
 }
 
 TEST_F(Cli, BenchPointsPrintsOneJsonObjectPerRun) {
