@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <glm/geometric.hpp>
 #include <optional>
 
@@ -15,6 +16,7 @@
 #include "apps/commands.h"
 #include "apps/point_cloud.h"
 #include "engine/image_io.h"
+#include "engine/memory.h"
 #include "engine/renderer.h"
 #include "engine/texture.h"
 #include "raster/splat.h"
@@ -66,7 +68,20 @@ void checkPointOptions(const RenderArgs& a) {
 }
 
 int renderPoints(const RenderArgs& a, const engine::Scene& scene, std::optional<glm::vec3> eye,
-                 std::optional<glm::vec3> target, const std::string& path) {
+                 std::optional<glm::vec3> target, const std::string& path, uint64_t memoryLimit,
+                 const std::string& limitSource) {
+  {
+    // Per point: position, color, and while sampling normal and material; per pixel a 64-bit key
+    // and the color. A points file's size bounds its points (a line per point, at least 6 bytes).
+    std::error_code ec;
+    const uint64_t points = a.pointsFile.empty() ? static_cast<uint64_t>(a.pointCount.value_or(kDefaultPointCount))
+                                                 : std::filesystem::file_size(a.pointsFile, ec) / 6 + 1;
+    engine::MemoryEstimate e;
+    e.parts = {{"points", points * (12 + 4 + 12 + 4)},
+               {"targets", static_cast<uint64_t>(a.width) * static_cast<uint64_t>(a.height) * (8 + 4)}};
+    for (const auto& [what, bytes] : e.parts) e.bytes += bytes;
+    require(engine::checkMemory(e, memoryLimit, "render --points", limitSource));
+  }
   raster::RasterConfig config;
   config.threads = a.threads;
   raster::Rasterizer rast(config);

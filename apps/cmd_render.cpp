@@ -8,6 +8,7 @@
 #include "apps/commands.h"
 #include "engine/builtin_scenes.h"
 #include "engine/image_io.h"
+#include "engine/memory.h"
 #include "engine/renderer.h"
 #include "engine/result_cache.h"
 #include "engine/scene_file.h"
@@ -138,11 +139,23 @@ int runRender(const RenderArgs& a) {
   checkOutputs(a);
   checkPointOptions(a);
 
+  // The memory limit: given, or what the machine has available now.
+  uint64_t memoryLimit = 0;
+  std::string limitSource = "the memory available";
+  if (!a.maxMemory.empty()) {
+    engine::Result<uint64_t> m = engine::parseBytes(a.maxMemory, "--max-memory");
+    if (!m) fail(m.error());
+    memoryLimit = *m;
+    limitSource = "--max-memory";
+  } else {
+    memoryLimit = engine::availableMemoryBytes();
+  }
+
   const ThreadLimit threads(a.threads);
   Progress progress("render", 2.0);
-  engine::Result<engine::Scene> scene = a.scene.empty()
-                                            ? engine::makeBuiltinScene(a.builtin.empty() ? engine::kDefaultScene : a.builtin)
-                                            : engine::loadScene(a.scene, {.allowOutsidePaths = a.allowOutsidePaths});
+  engine::Result<engine::Scene> scene =
+      a.scene.empty() ? engine::makeBuiltinScene(a.builtin.empty() ? engine::kDefaultScene : a.builtin)
+                      : engine::loadScene(a.scene, {.allowOutsidePaths = a.allowOutsidePaths, .maxBytes = memoryLimit});
   if (!scene) fail(scene.error());
   // Default output: <scene file stem or built-in name>.png in the current folder, in safe characters.
   std::string path = a.output.value_or("");
@@ -159,10 +172,12 @@ int runRender(const RenderArgs& a) {
     if (!a.cache.empty()) inputs.push_back(a.cache);
     refuseOverwritingInputs({path, a.exr}, inputs);
   }
-  if (a.points) return renderPoints(a, *scene, eye, target, path);
+  if (a.points) return renderPoints(a, *scene, eye, target, path, memoryLimit, limitSource);
 
   applyCamera(a, *scene, eye, target, options);
   const engine::ResolvedOptions resolved = resolveOrFail(options);
+  const engine::MemoryEstimate memory = engine::estimateFrameMemory(*scene, resolved);
+  require(engine::checkMemory(memory, memoryLimit, "render", limitSource));
   engine::Renderer renderer(a.threads);
   progress.step(1, 2, "rendering " + std::to_string(scene->triangleCount()) + " triangles");
   const engine::Frame frame = renderer.render(*scene, resolved);
@@ -179,6 +194,8 @@ int runRender(const RenderArgs& a) {
   if (a.stats) {
     std::printf("scene '%s': %zu meshes, %zu instances, %zu triangles, %d threads\n", scene->name.c_str(),
                 scene->meshes.size(), scene->instances.size(), scene->triangleCount(), renderer.rasterizer().threads());
+    std::printf("memory: about %s estimated, limit %s (%s)\n", memory.text().c_str(),
+                memoryLimit ? engine::formatBytes(memoryLimit).c_str() : "none", limitSource.c_str());
     std::printf("%s", frame.stats.report().c_str());
   }
   std::printf("wrote %s (%dx%d)%s%s\n", path.c_str(), a.width, a.height, a.exr.empty() ? "" : " and ", a.exr.c_str());

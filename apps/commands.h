@@ -39,13 +39,16 @@ struct RenderArgs {
   bool noStaticPath = false;          // static instances through the stochastic pass too
   std::optional<double> aperture, focus;  // override the camera's lens (none: the scene's)
   bool allowOutsidePaths = false;     // files may name files outside their own folder
+  std::string maxMemory;              // "8G", ...; "" = the memory available now
 };
 int runRender(const RenderArgs& args);
 // render --points: checks the point options (and that none is given without --points), then, once
 // the scene is loaded, draws the points to the PNG at `path` (cmd_points.cpp).
 void checkPointOptions(const RenderArgs& args);
+// memoryLimit: refuse (before allocating) points and targets estimated beyond it; 0: no limit.
 int renderPoints(const RenderArgs& args, const engine::Scene& scene, std::optional<glm::vec3> eye,
-                 std::optional<glm::vec3> target, const std::string& path);
+                 std::optional<glm::vec3> target, const std::string& path, uint64_t memoryLimit,
+                 const std::string& limitSource);
 
 struct BenchRasterArgs {
   std::vector<std::string> meshes;

@@ -104,6 +104,9 @@ int main(int argc, char** argv) {
               "Send static instances through the stochastic pass too (to measure what the ordinary path saves)");
   r->add_option("--aperture", render.aperture,
                 "Lens aperture radius in world units " + engine::kApertureOption.range() + " (0 = pinhole; default: the scene's)");
+  r->add_option("--max-memory", render.maxMemory,
+                "Refuse a frame estimated to need more memory than this (e.g. 8G, 512M; default: what the machine has "
+                "available now)");
   r->add_flag("--allow-outside-paths", render.allowOutsidePaths,
               "Let scene and glTF files name files outside their own folder (absolute or ../ paths)");
   r->add_option("--focus", render.focus, "Focus distance in world units " + engine::kFocusOption.range() + " (default: the scene's)");

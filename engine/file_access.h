@@ -21,6 +21,8 @@ namespace penumbra::engine {
 
 struct LoadOptions {
   bool allowOutsidePaths = false;  // files may name files outside their own folder
+  uint64_t maxBytes = 0;           // a model whose files (the glTF, its buffers) exceed this is refused
+                                   // before they are read; 0: no limit
 };
 
 // `reference` (a relative path, already percent-decoded where it came from a URI) resolved against

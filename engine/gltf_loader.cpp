@@ -299,6 +299,10 @@ class Loader {
     // tinygltf takes the length as unsigned int.
     if (static_cast<unsigned long long>(size) > std::numeric_limits<unsigned int>::max())
       return fail("file is larger than 4 GiB");
+    if (options_.maxBytes > 0 && static_cast<uint64_t>(size) > options_.maxBytes)
+      return fail("file of " + std::to_string(size) + " bytes is larger than the memory limit of " +
+                  std::to_string(options_.maxBytes) + " bytes");
+    bytesRead_ = static_cast<uint64_t>(size);
     in.seekg(0, std::ios::beg);
     data.resize(static_cast<size_t>(size));
     if (size > 0 && !in.read(reinterpret_cast<char*>(data.data()), size)) return fail("cannot read file");
@@ -407,6 +411,10 @@ class Loader {
         if (ec || size != want)
           return fail(what + ": the file holds " + std::to_string(size) + " bytes, the buffer's byteLength is " +
                       std::to_string(want));
+        bytesRead_ += want;
+        if (options_.maxBytes > 0 && bytesRead_ > options_.maxBytes)
+          return fail(what + ": the model's files hold more than the memory limit of " + std::to_string(options_.maxBytes) +
+                      " bytes");
         gate_.files[joinPath(baseDir, decodeUri(uri))] = {*file, want, true};
         sources_.push_back(file->string());
       }
@@ -889,6 +897,7 @@ class Loader {
   LoadOptions options_;
   GltfLoadStats& stats_;
   FileGate gate_;
+  uint64_t bytesRead_ = 0;             // the model and its buffers
   std::vector<std::string> sources_;   // files read besides the model itself
   std::map<size_t, std::string> imageProblems_;  // named images outside the folder, missing, too large
   tinygltf::Model model_;

@@ -194,8 +194,13 @@ class SceneParser {
     checkKeys(root, "", {"name", "gltf", "objects", "camera", "lights", "ambient", "background"});
     scene_.name = text(root, "name", "", fs::path(path_).stem().string());
     if (const json* g = find(root, "gltf")) forEach(*g, "gltf", [&](const json& e, const std::string& at) { gltf(e, at); });
-    if (const json* o = find(root, "objects"))
+    if (const json* o = find(root, "objects")) {
+      // Twice: the shapes' triangles are counted (and capped) for all of them before any is built.
+      counting_ = true;
       forEach(*o, "objects", [&](const json& e, const std::string& at) { object(e, at); });
+      counting_ = false;
+      forEach(*o, "objects", [&](const json& e, const std::string& at) { object(e, at); });
+    }
     if (const json* c = find(root, "camera")) camera(*c, "camera");
     if (const json* l = find(root, "lights")) forEach(*l, "lights", [&](const json& e, const std::string& at) { light(e, at); });
     scene_.ambient = vec3(root, "ambient", "", scene_.ambient, kNonNegative);
@@ -272,35 +277,51 @@ class SceneParser {
     const std::string shape = shapeJson.is_string() ? shapeJson.get<std::string>() : std::string();
     const std::string context = " for shape '" + shape + "'";
     constexpr int kMaxSteps = 4096;  // subdivisions per axis: 4096^2 quads is 33.5 M triangles
+    // The shape's triangles are counted (and capped) in the counting pass; only then built.
+    bool counted = false;
+    auto reserve = [&](size_t triangles) {
+      if (!counting_) return;
+      triangles_ += triangles;
+      if (triangles_ > kMaxSceneTriangles)
+        invalid(at + ": the scene's shapes exceed " + std::to_string(kMaxSceneTriangles) + " triangles");
+      counted = true;
+    };
     Mesh mesh;
     if (shape == "plane") {
       checkKeys(e, at, {"shape", "name", "material", "transform", "motion", "size", "divisions"}, context);
       const glm::vec2 s = size<2>(e, "size", at, 1.0f);
-      mesh = makePlane(s.x, s.y, integer(e, "divisions", at, 1, 1, kMaxSteps));
+      const int div = integer(e, "divisions", at, 1, 1, kMaxSteps);
+      reserve(planeTriangles(div));
+      if (!counted) mesh = makePlane(s.x, s.y, div);
     } else if (shape == "box") {
       checkKeys(e, at, {"shape", "name", "material", "transform", "motion", "size"}, context);
-      mesh = makeBox(size<3>(e, "size", at, 1.0f));
+      reserve(12);
+      if (!counted) mesh = makeBox(size<3>(e, "size", at, 1.0f));
     } else if (shape == "sphere") {
       checkKeys(e, at, {"shape", "name", "material", "transform", "motion", "radius", "rings", "segments"}, context);
-      mesh = makeSphere(number(e, "radius", at, 0.5f, kPositive), integer(e, "rings", at, 16, 2, kMaxSteps),
-                        integer(e, "segments", at, 32, 3, kMaxSteps));
+      const float radius = number(e, "radius", at, 0.5f, kPositive);
+      const int rings = integer(e, "rings", at, 16, 2, kMaxSteps), segments = integer(e, "segments", at, 32, 3, kMaxSteps);
+      reserve(sphereTriangles(rings, segments));
+      if (!counted) mesh = makeSphere(radius, rings, segments);
     } else if (shape == "cylinder") {
       checkKeys(e, at, {"shape", "name", "material", "transform", "motion", "radius", "height", "segments"}, context);
-      mesh = makeCylinder(number(e, "radius", at, 0.5f, kPositive), number(e, "height", at, 1.0f, kPositive),
-                          integer(e, "segments", at, 32, 3, kMaxSteps));
+      const float radius = number(e, "radius", at, 0.5f, kPositive), height = number(e, "height", at, 1.0f, kPositive);
+      const int segments = integer(e, "segments", at, 32, 3, kMaxSteps);
+      reserve(cylinderTriangles(segments));
+      if (!counted) mesh = makeCylinder(radius, height, segments);
     } else if (shape == "torus") {
       checkKeys(e, at, {"shape", "name", "material", "transform", "motion", "major_radius", "minor_radius", "rings", "segments"},
                 context);
       const float major = number(e, "major_radius", at, 0.5f, kPositive);
       const float minor = number(e, "minor_radius", at, 0.125f, kPositive);
       if (!(minor < major)) invalid(member(at, "minor_radius") + " must be < major_radius");
-      mesh = makeTorus(major, minor, integer(e, "rings", at, 32, 3, kMaxSteps), integer(e, "segments", at, 16, 3, kMaxSteps));
+      const int rings = integer(e, "rings", at, 32, 3, kMaxSteps), segments = integer(e, "segments", at, 16, 3, kMaxSteps);
+      reserve(torusTriangles(rings, segments));
+      if (!counted) mesh = makeTorus(major, minor, rings, segments);
     } else {
       invalid(member(at, "shape") + " must be one of 'plane', 'box', 'sphere', 'cylinder', 'torus'");
     }
-    triangles_ += mesh.indices.size() / 3;
-    if (triangles_ > kMaxSceneTriangles)
-      invalid(at + ": the scene's shapes exceed " + std::to_string(kMaxSceneTriangles) + " triangles");
+    if (counted) return;
     mesh.name = text(e, "name", at, shape + " " + std::to_string(scene_.meshes.size()));
     if (const json* m = find(e, "material")) material(*m, member(at, "material"), mesh);
     const glm::mat4 m = transform(e, at);
@@ -379,6 +400,7 @@ class SceneParser {
   // otherwise ask for gigabytes).
   static constexpr size_t kMaxSceneTriangles = size_t{1} << 26;
   size_t triangles_ = 0;
+  bool counting_ = false;
   std::string path_;
   LoadOptions options_;
   Scene scene_;

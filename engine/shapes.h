@@ -14,6 +14,7 @@
 // Thread-safety: pure functions.
 #pragma once
 
+#include <cstddef>
 #include <glm/vec3.hpp>
 
 #include "engine/scene.h"
@@ -38,5 +39,13 @@ Mesh makeCylinder(float radius, float height, int segments);
 // A torus around y: the tube of radius `minorRadius` follows a circle of radius `majorRadius` in the
 // y = 0 plane; `rings` steps around the major circle, `segments` around the tube.
 Mesh makeTorus(float majorRadius, float minorRadius, int rings, int segments);
+
+// The triangle counts of the shapes above, without building them (caps are checked first).
+inline size_t planeTriangles(int div) { return 2 * static_cast<size_t>(div) * static_cast<size_t>(div); }
+inline size_t sphereTriangles(int rings, int segments) {
+  return 2 * static_cast<size_t>(segments) * static_cast<size_t>(rings - 1);
+}
+inline size_t cylinderTriangles(int segments) { return 4 * static_cast<size_t>(segments); }
+inline size_t torusTriangles(int rings, int segments) { return 2 * static_cast<size_t>(rings) * static_cast<size_t>(segments); }
 
 }  // namespace penumbra::engine

@@ -549,7 +549,9 @@ TechniqueInfo referenceTechnique() {
                           "(1024 on a square light: 32x32)"}},
       .benchSettings = {""},
       .isReference = true,
-      .make = [] { return std::make_unique<Reference>(); }};
+      .make = [] { return std::make_unique<Reference>(); },
+      // Embree's high-quality BVH and its copy of the vertices: about 160 bytes per triangle.
+      .peakBytes = [](const ParamSet&, uint64_t triangles) { return triangles * 160; }};
 }
 
 }  // namespace penumbra::shadows

@@ -120,6 +120,11 @@ struct TechniqueInfo {
   std::vector<std::string> benchSettings;  // parameter lists `penumbra bench shadows` runs
   bool isReference = false;          // the ray-traced ground truth (not benchmarked against itself)
   std::function<std::unique_ptr<Technique>()> make;
+  // Bytes the technique holds at its peak for one light (maps, buffers, acceleration structures)
+  // beyond the shared inputs, for `casterTriangles` casters; the engine's memory estimate adds it.
+  // Empty: 32 bytes per texel of one map_size^2 map (up to four float moments, a blur buffer and a
+  // min/max pyramid), or nothing without map_size.
+  std::function<uint64_t(const ParamSet& params, uint64_t casterTriangles)> peakBytes = nullptr;
 };
 
 // Every technique, in a fixed order (the ground truth, "reference", last).

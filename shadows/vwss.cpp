@@ -248,7 +248,16 @@ TechniqueInfo vwssTechnique() {
           .params = std::move(p),
           .benchSettings = {"views=24", "", "views=128", "views=128,mode=unbuffered,views_per_pass=128"},
           .isReference = false,
-          .make = [] { return std::make_unique<Vwss>(); }};
+          .make = [] { return std::make_unique<Vwss>(); },
+          // 64-bit keys of one pass of maps, one float map, and the points (a source view up to
+          // max_source^2 texels, a few layers of 16 bytes each).
+          .peakBytes = [](const ParamSet& q, uint64_t) {
+            const uint64_t size = static_cast<uint64_t>(q.integer("map_size"));
+            uint64_t pass = static_cast<uint64_t>(q.integer("views_per_pass"));
+            if (pass == 0) pass = static_cast<uint64_t>(q.integer("views"));
+            const uint64_t source = static_cast<uint64_t>(q.integer("max_source"));
+            return pass * size * size * 8 + size * size * 4 + std::min<uint64_t>(source * source, size * size * 64) * 64;
+          }};
 }
 
 }  // namespace penumbra::shadows

@@ -385,6 +385,18 @@ TEST_F(Cli, SignalsLeaveNoFileAndExit128PlusTheSignal) {
   }
 }
 
+// A frame estimated beyond the memory limit is refused at once, before any allocation.
+TEST_F(Cli, FrameBeyondTheMemoryLimitIsRefused) {
+  const std::string o = path("o.png");
+  expectBadInput("render --width 16384 --height 16384 --max-memory 1G -o " + o, "--max-memory", o);
+  expectBadInput("render --points --point-count 60000000 --max-memory 100M -o " + o, "--max-memory", o);
+  expectBadInput("render --max-memory 12X -o " + o, "--max-memory", o);
+  // A scene file whose procedural shapes would exceed the triangle cap: refused before they are built.
+  write("many.json", "{\"objects\": [{\"shape\": \"plane\", \"divisions\": 4096}, {\"shape\": \"plane\", \"divisions\": 4096},"
+                     " {\"shape\": \"plane\", \"divisions\": 4096}]}");
+  expectBadInput("render " + path("many.json") + " -o " + o, "objects[2]: the scene's shapes exceed", o);
+}
+
 TEST_F(Cli, Version) {
   const CliResult r = run("--version");
   EXPECT_EQ(r.status, 0);
