@@ -21,6 +21,7 @@ std::pair<std::string, engine::Scene> loadSceneArgument(const std::string& name,
     if (isFile) fail(s.error());
     fail("option " + option, s.error().line());
   }
+  engine::addDefaultLighting(*s);  // a file without lights gets the key light render would give it
   return {isFile ? std::filesystem::path(name).stem().string() : name, std::move(*s)};
 }
 

@@ -98,6 +98,8 @@ engine::RenderOptions renderOptions(const RenderArgs& a) {
   options.frame = a.frame;
   options.staticPath = !a.noStaticPath;
   options.dualBlock = a.dualBlock;
+  options.exposure = a.exposure;
+  if (!engine::parseToneMap(a.toneMap, options.toneMap)) fail("option --tonemap", "must be none or aces, not '" + a.toneMap + "'");
   return options;
 }
 
@@ -157,6 +159,7 @@ int runRender(const RenderArgs& a) {
       a.scene.empty() ? engine::makeBuiltinScene(a.builtin.empty() ? engine::kDefaultScene : a.builtin)
                       : engine::loadScene(a.scene, {.allowOutsidePaths = a.allowOutsidePaths, .maxBytes = memoryLimit});
   if (!scene) fail(scene.error());
+  if (!a.noDefaultLight && !a.points) engine::addDefaultLighting(*scene);
   // Default output: <scene file stem or built-in name>.png in the current folder, in safe characters.
   std::string path = a.output.value_or("");
   if (!a.output) {

@@ -40,6 +40,9 @@ struct RenderArgs {
   std::optional<double> aperture, focus;  // override the camera's lens (none: the scene's)
   bool allowOutsidePaths = false;     // files may name files outside their own folder
   std::string maxMemory;              // "8G", ...; "" = the memory available now
+  bool noDefaultLight = false;        // a scene without lights stays unlit (ambient only)
+  double exposure = 0.0;              // stops, for the PNG
+  std::string toneMap = "none";       // none, aces
 };
 int runRender(const RenderArgs& args);
 // render --points: checks the point options (and that none is given without --points), then, once

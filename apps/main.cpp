@@ -104,6 +104,11 @@ int main(int argc, char** argv) {
               "Send static instances through the stochastic pass too (to measure what the ordinary path saves)");
   r->add_option("--aperture", render.aperture,
                 "Lens aperture radius in world units " + engine::kApertureOption.range() + " (0 = pinhole; default: the scene's)");
+  r->add_flag("--no-default-light", render.noDefaultLight,
+              "Leave a scene without lights unlit (by default it gets a key area light and a sky ambient)");
+  r->add_option("--exposure", render.exposure,
+                "Exposure of the PNG in stops " + engine::kExposureOption.range() + " (default 0; the EXR keeps radiance)");
+  r->add_option("--tonemap", render.toneMap, "Tone map of the PNG: none (clamp, default) or aces (filmic roll-off)");
   r->add_option("--max-memory", render.maxMemory,
                 "Refuse a frame estimated to need more memory than this (e.g. 8G, 512M; default: what the machine has "
                 "available now)");

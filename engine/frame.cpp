@@ -8,10 +8,15 @@ std::string FrameStats::report() const {
   std::string s;
   char buf[512];
   std::snprintf(buf, sizeof buf,
-                "frame: %.2f ms (cull %.2f, G-buffer %.2f, shadows %.2f, shade %.2f); camera %s\n"
+                "frame: %.2f ms (cull %.2f, G-buffer %.2f, shadows %.2f, shade %.2f); camera %s: eye (%.4g, %.4g, "
+                "%.4g), target (%.4g, %.4g, %.4g), vertical fov %.4g deg%s\n"
                 "  instances %zu: culled by view frustum before vertex work %zu (%zu triangles skipped), drawn %zu "
                 "(%zu triangles)\n",
-                msTotal, msCull, msGbuffer, msShadows, msShade, cameraSource.c_str(), instances, instancesCulled,
+                msTotal, msCull, msGbuffer, msShadows, msShade, cameraSource.c_str(), static_cast<double>(camera.eye.x),
+                static_cast<double>(camera.eye.y), static_cast<double>(camera.eye.z), static_cast<double>(camera.target.x),
+                static_cast<double>(camera.target.y), static_cast<double>(camera.target.z),
+                static_cast<double>(camera.fovYDegrees), camera.apertureRadius > 0.0f ? ", thin lens" : "",
+                instances, instancesCulled,
                 trianglesSkippedByCulling, instances - instancesCulled, trianglesSubmitted);
   s += buf;
   if (!culledNames.empty()) {
@@ -20,6 +25,7 @@ std::string FrameStats::report() const {
     if (instancesCulled > culledNames.size()) s += " ...";
     s += "\n";
   }
+  if (!lighting.empty()) s += "  lighting: " + lighting + "\n";
   s += gbuffer.report("G-buffer pass");
   for (size_t i = 0; i < shadows.size(); ++i) {
     const LightShadowStats& l = shadows[i];

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/scene.h"
 #include "raster/depth_target.h"
 #include "raster/image.h"
 #include "raster/stats.h"
@@ -48,7 +49,9 @@ struct FrameStats {
   raster::PassStats gbuffer;
   std::vector<LightShadowStats> shadows;  // one per area light
   double msCull = 0, msGbuffer = 0, msShadows = 0, msShade = 0, msTotal = 0;
-  std::string cameraSource;  // "scene", "options" or "fitted to bounds"
+  std::string cameraSource;  // "scene", "options" or "fitted to the objects' bounds"
+  Camera camera;             // the camera used (printed by report())
+  std::string lighting;      // "" or how the scene was lit by default
   // The stochastic pass: why it ran or was skipped, what it drew and what it saved.
   bool stochastic = false;
   std::string stochasticPlan;

@@ -102,17 +102,21 @@ Camera chooseCamera(const Scene& scene, const RenderOptions& options, std::strin
     if (source) *source = "scene";
     return *scene.camera;
   }
-  if (source) *source = "fitted to bounds";
+  if (source) *source = "fitted to the objects' bounds";
   Camera cam;
   glm::vec3 lo, hi;
-  if (!scene.worldBounds(lo, hi)) return cam;
+  if (!scene.objectBounds(lo, hi)) return cam;  // a ground far larger than the objects is left out
   const glm::vec3 centre = (lo + hi) * 0.5f;
   const float radius = std::max(glm::length(hi - lo) * 0.5f, 1e-3f);
-  // From the front, 25 degrees above, 30 degrees to the side; the bounding sphere fills the view.
+  // From the front, 25 degrees above, 30 degrees to the side; the bounding sphere fills the view in
+  // its narrower direction (the horizontal one in a portrait image).
   const float el = 25.0f * std::numbers::pi_v<float> / 180.0f, az = 30.0f * std::numbers::pi_v<float> / 180.0f;
   const glm::vec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
   cam.fovYDegrees = 40.0f;
-  const float dist = radius / std::sin(0.5f * cam.fovYDegrees * std::numbers::pi_v<float> / 180.0f);
+  const float halfY = 0.5f * cam.fovYDegrees * std::numbers::pi_v<float> / 180.0f;
+  const float aspect = options.height > 0 ? static_cast<float>(options.width) / static_cast<float>(options.height) : 1.0f;
+  const float halfX = std::atan(std::tan(halfY) * aspect);
+  const float dist = radius / std::sin(std::min(halfY, halfX));
   cam.eye = centre + dir * dist;
   cam.target = centre;
   return cam;
@@ -161,6 +165,9 @@ FramePlan planFrame(const Scene& scene, const ResolvedOptions& resolved, FrameSt
   plan.width = options.width;
   plan.height = options.height;
   plan.camera = chooseCamera(scene, options, &st.cameraSource);
+  st.camera = plan.camera;
+  if (scene.defaultLighting)
+    st.lighting = "the scene has no light: a default key area light and a sky ambient were added (--no-default-light)";
   const Camera& cam = plan.camera;
   const double aspect = static_cast<double>(plan.width) / plan.height;
   const glm::mat4 pinholeViewProj = viewProjection(cam, scene, aspect);
@@ -174,6 +181,8 @@ FramePlan planFrame(const Scene& scene, const ResolvedOptions& resolved, FrameSt
   plan.lensActive = plan.lens.active() && !plan.at;
   plan.pixelAngle = 2.0f * plan.tanHalf / static_cast<float>(plan.height);
   plan.casterTime = plan.at ? plan.at->t : 0.5f;
+  plan.exposureScale = static_cast<float>(std::exp2(options.exposure));
+  plan.toneMap = options.toneMap;
 
   std::vector<size_t> visible;
   cullInstances(scene, plan, st, visible);

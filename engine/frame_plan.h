@@ -31,6 +31,8 @@ struct FramePlan {
   std::optional<stochastic::Sample> at;  // a fixed-sample frame: every instance at this (t, u, v)
   // Casters' time for the shadow pass: mid-shutter, or the fixed sample's time.
   float casterTime = 0.5f;
+  float exposureScale = 1.0f;   // 2^exposure, for the 8-bit image
+  ToneMap toneMap = ToneMap::None;
   bool stochasticPass = false;
   std::vector<size_t> ordinary, stochastic;  // instance indices, in scene order
 

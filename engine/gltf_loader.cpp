@@ -30,7 +30,7 @@ namespace fs = std::filesystem;
 
 // Required extensions this loader implements (KHR_mesh_quantization: integer vertex attributes,
 // which the accessor reader below handles for every attribute).
-const char* const kSupportedRequiredExtensions[] = {"KHR_mesh_quantization"};
+const char* const kSupportedRequiredExtensions[] = {"KHR_mesh_quantization", "KHR_lights_punctual"};
 
 std::string str(size_t v) { return std::to_string(v); }
 std::string str(int v) { return std::to_string(v); }
@@ -845,6 +845,50 @@ class Loader {
     return Ok{};
   }
 
+  // KHR_lights_punctual: the light a node names sits at the node's origin and shines down its -z.
+  // glTF's photometric intensities (candela for point and spot lights, lux for directional ones)
+  // become ours divided by pi: we shade albedo * (n . l) * intensity, glTF's BRDF is albedo / pi.
+  Status light(const tinygltf::Node& node, size_t index, const glm::mat4& world) {
+    const auto ext = node.extensions.find("KHR_lights_punctual");
+    if (ext == node.extensions.end() || !ext->second.IsObject() || !ext->second.Has("light")) return Ok{};
+    const tinygltf::Value& v = ext->second.Get("light");
+    if (!v.IsInt() && !v.IsNumber()) return fail("node " + str(index) + ": KHR_lights_punctual light must be an index");
+    const int li = v.IsInt() ? v.Get<int>() : static_cast<int>(v.GetNumberAsDouble());
+    if (li < 0 || static_cast<size_t>(li) >= model_.lights.size())
+      return fail("node " + str(index) + " uses light " + str(li) + ", which does not exist");
+    const tinygltf::Light& l = model_.lights[static_cast<size_t>(li)];
+    const std::string owner = "light " + str(li);
+    glm::vec3 color(1.0f);
+    if (!l.color.empty()) {
+      if (l.color.size() != 3) return fail(owner + ": color must have 3 numbers");
+      color = glm::vec3(static_cast<float>(l.color[0]), static_cast<float>(l.color[1]), static_cast<float>(l.color[2]));
+    }
+    const float intensity = static_cast<float>(l.intensity / std::numbers::pi);
+    const float range = static_cast<float>(l.range);
+    for (float f : {color.x, color.y, color.z, intensity, range})
+      if (!std::isfinite(f) || f < 0.0f) return fail(owner + ": color, intensity and range must be finite and >= 0");
+    const glm::vec3 position(world[3]);
+    const glm::vec3 forward = glm::mat3(world) * glm::vec3(0.0f, 0.0f, -1.0f);
+    const float len = glm::length(forward);
+    if (l.type == "point") {
+      scene_.pointLights.push_back({position, color, intensity, range});
+      return Ok{};
+    }
+    if (!(len > 0.0f) || !std::isfinite(len)) return fail(owner + " sits on node " + str(index) + ", whose transform is degenerate");
+    if (l.type == "directional") {
+      scene_.directionalLights.push_back({forward / len, color, intensity});
+    } else if (l.type == "spot") {
+      SpotLight sl{position, forward / len, color, intensity, range, static_cast<float>(l.spot.innerConeAngle),
+                   static_cast<float>(l.spot.outerConeAngle)};
+      if (!(sl.innerCone >= 0.0f && sl.innerCone < sl.outerCone && sl.outerCone <= std::numbers::pi_v<float> / 2))
+        return fail(owner + ": spot cones must satisfy 0 <= innerConeAngle < outerConeAngle <= pi/2");
+      scene_.spotLights.push_back(sl);
+    } else {
+      return fail(owner + ": type '" + l.type + "' is not directional, point or spot");
+    }
+    return Ok{};
+  }
+
   Status walkScene() {
     std::vector<int> roots;
     if (model_.defaultScene >= 0 || !model_.scenes.empty()) {
@@ -888,6 +932,7 @@ class Loader {
       }
       if (node.camera >= 0)
         if (Status s = camera(node.camera, index, world); !s) return s;
+      if (Status s = light(node, index, world); !s) return s;
       for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.push_back({*it, world});
     }
     return Ok{};

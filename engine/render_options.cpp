@@ -36,10 +36,19 @@ Status OptionSpec::check(double v) const {
   return Error{std::string("option ") + option, "must be " + std::string(powerOfTwo ? "" : "in ") + range() + ", got " + num(v)};
 }
 
+const char* toneMapName(ToneMap t) { return t == ToneMap::Aces ? "aces" : "none"; }
+
+bool parseToneMap(const std::string& name, ToneMap& t) {
+  if (name == "none") t = ToneMap::None;
+  else if (name == "aces") t = ToneMap::Aces;
+  else return false;
+  return true;
+}
+
 Result<ResolvedOptions> resolveOptions(const RenderOptions& o) {
   for (const auto& [spec, v] : {std::pair{&kWidthOption, double(o.width)}, std::pair{&kHeightOption, double(o.height)},
                                 std::pair{&kSppOption, double(o.spp)}, std::pair{&kDualBlockOption, double(o.dualBlock)},
-                                std::pair{&kFrameOption, double(o.frame)}})
+                                std::pair{&kFrameOption, double(o.frame)}, std::pair{&kExposureOption, o.exposure}})
     if (Status st = spec->check(v); !st) return st.error();
   if (o.timeStrata)
     if (Status st = kTimeStrataOption.check(*o.timeStrata); !st) return st.error();

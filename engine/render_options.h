@@ -44,6 +44,15 @@ inline constexpr OptionSpec kTimeStrataOption{"--strata (time strata T)", 1, sto
 inline constexpr OptionSpec kLensStrataOption{"--strata (lens cells L)", 1, stochastic::kMaxLensStrata};
 inline constexpr OptionSpec kDualBlockOption{"--dual-block", 1, stochastic::kMaxDualBlock, false, false, true};
 inline constexpr OptionSpec kFrameOption{"--frame", 0, 4294967295.0};
+inline constexpr OptionSpec kExposureOption{"--exposure", -20, 20};
+
+// How linear radiance becomes the 8-bit image (the EXR keeps the radiance as it is).
+enum class ToneMap : uint8_t {
+  None,  // clamp to [0, 1]
+  Aces,  // Narkowicz's fit of the ACES filmic curve: highlights roll off instead of clipping
+};
+const char* toneMapName(ToneMap t);
+bool parseToneMap(const std::string& name, ToneMap& t);  // "none", "aces"
 
 struct RenderOptions {
   int width = 1280;    // pixels, kWidthOption
@@ -78,6 +87,10 @@ struct RenderOptions {
   // the unit disk (t in [0, 1], both ends of the shutter included).
   std::optional<stochastic::Sample> at;
   stochastic::StochasticDebug debug;  // optional per-sample / per-pixel outputs of the stochastic pass
+  // The 8-bit image: radiance times 2^exposure (kExposureOption, stops), then the tone map, then
+  // sRGB. 0 and None leave the bytes as without them.
+  double exposure = 0.0;
+  ToneMap toneMap = ToneMap::None;
 };
 
 struct ResolvedOptions {

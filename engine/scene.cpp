@@ -3,6 +3,8 @@
 #include <glm/geometric.hpp>
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <algorithm>
 
 namespace penumbra::engine {
 
@@ -20,25 +22,91 @@ glm::mat4 Instance::transformAt(float t) const {
   return m;
 }
 
+namespace {
+
+// World-space box of one instance over the shutter; false for an empty mesh.
+bool instanceBox(const Scene& scene, const Instance& inst, glm::vec3& lo, glm::vec3& hi) {
+  const Mesh& m = scene.meshes[static_cast<size_t>(inst.mesh)];
+  if (m.positions.empty()) return false;
+  lo = glm::vec3(std::numeric_limits<float>::max());
+  hi = -lo;
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec3 p((c & 1) ? m.boundsMax.x : m.boundsMin.x, (c & 2) ? m.boundsMax.y : m.boundsMin.y,
+                      (c & 4) ? m.boundsMax.z : m.boundsMin.z);
+    for (const glm::mat4* m2 : {&inst.transform, inst.transformClose ? &*inst.transformClose : &inst.transform}) {
+      const glm::vec3 w = glm::vec3(*m2 * glm::vec4(p, 1.0f));
+      lo = glm::min(lo, w);
+      hi = glm::max(hi, w);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 bool Scene::worldBounds(glm::vec3& lo, glm::vec3& hi) const {
   lo = glm::vec3(std::numeric_limits<float>::max());
   hi = -lo;
   bool any = false;
   for (const Instance& inst : instances) {
-    const Mesh& m = meshes[static_cast<size_t>(inst.mesh)];
-    if (m.positions.empty()) continue;
-    for (int c = 0; c < 8; ++c) {
-      const glm::vec3 p((c & 1) ? m.boundsMax.x : m.boundsMin.x, (c & 2) ? m.boundsMax.y : m.boundsMin.y,
-                        (c & 4) ? m.boundsMax.z : m.boundsMin.z);
-      for (const glm::mat4* m2 : {&inst.transform, inst.transformClose ? &*inst.transformClose : &inst.transform}) {
-        const glm::vec3 w = glm::vec3(*m2 * glm::vec4(p, 1.0f));
-        lo = glm::min(lo, w);
-        hi = glm::max(hi, w);
-      }
-      any = true;
-    }
+    glm::vec3 a, b;
+    if (!instanceBox(*this, inst, a, b)) continue;
+    lo = glm::min(lo, a), hi = glm::max(hi, b);
+    any = true;
   }
   return any;
+}
+
+bool Scene::objectBounds(glm::vec3& lo, glm::vec3& hi) const {
+  // Flat instances (thinner than 1e-3 of their extent): candidates for a ground or a backdrop.
+  std::vector<char> flat(instances.size(), 0);
+  std::vector<glm::vec3> los(instances.size()), his(instances.size());
+  std::vector<char> has(instances.size(), 0);
+  for (size_t i = 0; i < instances.size(); ++i) {
+    has[i] = instanceBox(*this, instances[i], los[i], his[i]) ? 1 : 0;
+    if (!has[i]) continue;
+    const glm::vec3 e = his[i] - los[i];
+    const float big = std::max({e.x, e.y, e.z}), small = std::min({e.x, e.y, e.z});
+    flat[i] = small <= 1e-3f * big ? 1 : 0;
+  }
+  glm::vec3 olo(std::numeric_limits<float>::max()), ohi = -olo;
+  bool objects = false;
+  for (size_t i = 0; i < instances.size(); ++i)
+    if (has[i] && !flat[i]) olo = glm::min(olo, los[i]), ohi = glm::max(ohi, his[i]), objects = true;
+  if (!objects) return worldBounds(lo, hi);
+  // Flat instances at most twice the objects' size are part of what is shown (a card, a table top).
+  const float size = glm::length(ohi - olo);
+  lo = olo, hi = ohi;
+  for (size_t i = 0; i < instances.size(); ++i)
+    if (has[i] && flat[i] && glm::length(his[i] - los[i]) <= 2.0f * size)
+      lo = glm::min(lo, los[i]), hi = glm::max(hi, his[i]);
+  return true;
+}
+
+bool addDefaultLighting(Scene& scene) {
+  if (!scene.directionalLights.empty() || !scene.pointLights.empty() || !scene.spotLights.empty() ||
+      !scene.areaLights.empty())
+    return false;
+  glm::vec3 lo, hi;
+  if (!scene.objectBounds(lo, hi)) return false;
+  const glm::vec3 centre = (lo + hi) * 0.5f;
+  const float radius = std::max(glm::length(hi - lo) * 0.5f, 1e-3f);
+  // Above, in front (the fitted camera looks from +z, +x) and to its left.
+  const glm::vec3 dir = glm::normalize(glm::vec3(-0.5f, 1.2f, 0.6f));
+  shadows::RectLight key;
+  const float width = 0.35f * radius;
+  if (!shadows::makeRectLight(centre + dir * (2.5f * radius), -dir, glm::vec3(1, 0, 0), width, width, glm::vec3(1.0f),
+                              1.0f, key))
+    return false;
+  // Radiance such that a white surface at the centre, facing the light, reflects 0.8:
+  // albedo / pi * E = 0.8 with E = radiance * irradianceFactor.
+  const float factor = shadows::irradianceFactor(key, centre, dir);
+  if (!(factor > 0.0f)) return false;
+  key.intensity = 0.8f * std::numbers::pi_v<float> / factor;
+  scene.areaLights.push_back(key);
+  scene.sky = SkyLight{};
+  scene.defaultLighting = true;
+  return true;
 }
 
 void computeBounds(Mesh& mesh) {

@@ -80,6 +80,25 @@ struct PointLight {
   glm::vec3 position{0.0f};
   glm::vec3 color{1.0f};
   float intensity = 1.0f;                  // radiant intensity, falls off with 1 / d^2; >= 0
+  float range = 0.0f;                      // > 0: faded out smoothly by distance `range` (KHR_lights_punctual)
+};
+
+// A point light limited to a cone (KHR_lights_punctual's spot): full inside innerCone, fading to 0
+// at outerCone (half-angles from the direction, radians, 0 <= inner < outer <= pi/2).
+struct SpotLight {
+  glm::vec3 position{0.0f};
+  glm::vec3 direction{0.0f, -1.0f, 0.0f};  // unit, where the cone points
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;
+  float range = 0.0f;
+  float innerCone = 0.0f, outerCone = 0.7853982f;
+};
+
+// Ambient light from a sky above and the ground below, blended by the shading normal's y:
+// ambient = albedo * mix(ground, sky, (1 + n.y) / 2). Replaces Scene::ambient when set.
+struct SkyLight {
+  glm::vec3 sky{0.30f, 0.34f, 0.40f};
+  glm::vec3 ground{0.10f, 0.09f, 0.08f};
 };
 
 struct Scene {
@@ -91,12 +110,16 @@ struct Scene {
   std::optional<Camera> camera;  // none: the renderer frames the scene bounds
   std::vector<DirectionalLight> directionalLights;
   std::vector<PointLight> pointLights;
+  std::vector<SpotLight> spotLights;
+  std::optional<SkyLight> sky;
   // Rectangular area lights: the lights that cast (soft) shadows, with the technique chosen in
   // RenderOptions. Directional and point lights are unshadowed.
   std::vector<shadows::RectLight> areaLights;
   glm::vec3 ambient{0.08f};      // constant ambient term added to the lit color
   glm::vec3 background{0.1f, 0.1f, 0.12f};
 
+  // Set by addDefaultLighting: the scene had no light and got a default key light and sky.
+  bool defaultLighting = false;
   // Every file the scene was read from (canonical paths): the scene file, glTF files, buffers,
   // images. An output must not overwrite any of them.
   std::vector<std::string> sourceFiles;
@@ -104,11 +127,22 @@ struct Scene {
   size_t triangleCount() const;
   // World-space bounding box of all instances; false when the scene is empty.
   bool worldBounds(glm::vec3& lo, glm::vec3& hi) const;
+  // The same, leaving out a ground or backdrop: flat instances (thinner than 1e-3 of their extent)
+  // more than twice the size of the rest; all instances when every one is flat. What a fitted
+  // camera frames and a default light is placed by.
+  bool objectBounds(glm::vec3& lo, glm::vec3& hi) const;
 };
 
 // Bounds and normals computed, references checked (mesh, material and texture indices, index
 // ranges), non-finite vertex positions reported. `where` names the source in the error.
 Status validateScene(Scene& scene, const std::string& where);
+
+// A scene without any light (the usual glTF file) gets what a viewer would show it with: a key
+// light -- a rectangular area light above, in front and to the left of the bounds, facing their
+// centre, 0.35 of their radius wide, bright enough that a white surface facing it reflects about
+// 0.8 -- and a sky ambient (SkyLight). Returns false (and changes nothing) when the scene has a
+// light or no geometry. Soft shadows then come from the key light like from any area light.
+bool addDefaultLighting(Scene& scene);
 
 // Area-weighted vertex normals (for meshes without normals).
 void computeNormals(Mesh& mesh);

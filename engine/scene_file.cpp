@@ -377,6 +377,18 @@ class SceneParser {
       l.color = vec3(e, "color", at, l.color, kNonNegative);
       l.intensity = number(e, "intensity", at, l.intensity, kNonNegative);
       scene_.pointLights.push_back(l);
+    } else if (type == "spot") {
+      checkKeys(e, at, {"type", "position", "direction", "color", "intensity", "inner_deg", "outer_deg"}, " for a spot light");
+      SpotLight l;
+      l.position = vector<3>(required(e, "position", at), member(at, "position"), kAny);
+      l.direction = direction(e, "direction", at);
+      l.color = vec3(e, "color", at, l.color, kNonNegative);
+      l.intensity = number(e, "intensity", at, l.intensity, kNonNegative);
+      const float outer = number(e, "outer_deg", at, 45.0f, Range{0.0, 90.0, true, false});
+      const float inner = number(e, "inner_deg", at, 0.0f, Range{0.0, static_cast<double>(outer), false, true});
+      l.innerCone = glm::radians(inner);
+      l.outerCone = glm::radians(outer);
+      scene_.spotLights.push_back(l);
     } else if (type == "area") {
       checkKeys(e, at, {"type", "center", "normal", "width_axis", "width", "height", "color", "intensity"},
                 " for an area light");
@@ -392,7 +404,7 @@ class SceneParser {
       if (!shadows::makeRectLight(center, normal, axis, width, height, color, intensity, l, &why)) invalid(at + ": " + why);
       scene_.areaLights.push_back(l);
     } else {
-      invalid(member(at, "type") + " must be 'directional', 'point' or 'area'");
+      invalid(member(at, "type") + " must be 'directional', 'point', 'spot' or 'area'");
     }
   }
 

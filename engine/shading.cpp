@@ -16,12 +16,34 @@ namespace penumbra::engine {
 
 namespace {
 
+// KHR_lights_punctual's recommended window: 1 inside, smoothly 0 at distance `range` (0: none).
+float rangeFalloff(float range, float d2) {
+  if (!(range > 0.0f)) return 1.0f;
+  const float r = d2 / (range * range);
+  const float w = std::clamp(1.0f - r * r, 0.0f, 1.0f);
+  return w * w;
+}
+
+// The 8-bit value of a linear channel after exposure and the tone map.
+uint8_t display(float c, float exposure, ToneMap map) {
+  float x = c * exposure;
+  if (map == ToneMap::Aces) {
+    x = std::max(x, 0.0f);
+    x = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);  // Narkowicz 2015
+  }
+  return linearToSrgb(x);
+}
+
 // Radiance towards the eye of one G-buffer texel; vy: its row in the visibility images.
 glm::vec3 shadeTexel(const Scene& scene, const glm::vec3& eye, const std::vector<raster::ImageFloat>& visibility,
                      const GBufferTexel& g, int x, int vy) {
   const Material& mat = gbufferMaterial(scene, g.material);
   const glm::vec3 v = glm::normalize(eye - g.position);
   glm::vec3 c = scene.ambient * g.albedo;
+  if (scene.sky) {
+    const float up = 0.5f * (1.0f + g.normal.y);
+    c = (scene.sky->ground + (scene.sky->sky - scene.sky->ground) * up) * g.albedo;
+  }
   auto light = [&](const glm::vec3& l, const glm::vec3& radiance) {
     const float ndl = glm::dot(g.normal, l);
     if (ndl <= 0.0f) return;
@@ -36,7 +58,16 @@ glm::vec3 shadeTexel(const Scene& scene, const glm::vec3& eye, const std::vector
   for (const PointLight& pl : scene.pointLights) {
     const glm::vec3 d = pl.position - g.position;
     const float d2 = std::max(glm::dot(d, d), 1e-8f);
-    light(d / std::sqrt(d2), pl.color * (pl.intensity / d2));
+    light(d / std::sqrt(d2), pl.color * (pl.intensity * rangeFalloff(pl.range, d2) / d2));
+  }
+  for (const SpotLight& sl : scene.spotLights) {
+    const glm::vec3 d = sl.position - g.position;
+    const float d2 = std::max(glm::dot(d, d), 1e-8f);
+    const glm::vec3 l = d / std::sqrt(d2);
+    // KHR_lights_punctual: smooth between the cones' cosines, squared.
+    const float cosOuter = std::cos(sl.outerCone), cosInner = std::cos(sl.innerCone);
+    const float t = std::clamp((glm::dot(sl.direction, -l) - cosOuter) / std::max(cosInner - cosOuter, 1e-4f), 0.0f, 1.0f);
+    light(l, sl.color * (sl.intensity * t * t * rangeFalloff(sl.range, d2) / d2));
   }
   for (size_t li = 0; li < scene.areaLights.size(); ++li) {
     const shadows::RectLight& al = scene.areaLights[li];
@@ -66,6 +97,7 @@ void shadeFrame(raster::Rasterizer& raster, const Scene& scene, const FramePlan&
   frame.linear.resize(w, h);
   frame.color.resize(w, h);
   const glm::vec3 eye = plan.camera.eye;
+  const bool plain = plan.exposureScale == 1.0f && plan.toneMap == ToneMap::None;  // the bytes as without them
   raster.run([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y != rows.end(); ++y)
@@ -100,7 +132,12 @@ void shadeFrame(raster::Rasterizer& raster, const Scene& scene, const FramePlan&
             }
           }
           frame.linear.at(x, y) = raster::Float4{c.x, c.y, c.z, alpha};
-          frame.color.at(x, y) = raster::Rgba8{linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z), 255};
+          if (plain)
+            frame.color.at(x, y) = raster::Rgba8{linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z), 255};
+          else
+            frame.color.at(x, y) = raster::Rgba8{display(c.x, plan.exposureScale, plan.toneMap),
+                                                 display(c.y, plan.exposureScale, plan.toneMap),
+                                                 display(c.z, plan.exposureScale, plan.toneMap), 255};
         }
     });
   });

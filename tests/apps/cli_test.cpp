@@ -397,6 +397,22 @@ TEST_F(Cli, FrameBeyondTheMemoryLimitIsRefused) {
   expectBadInput("render " + path("many.json") + " -o " + o, "objects[2]: the scene's shapes exceed", o);
 }
 
+// A glTF without lights (most real files) is lit by default, and says so; the camera is printed.
+TEST_F(Cli, LightlessGltfGetsADefaultLightAndStatsShowTheCamera) {
+  write("tri.gltf", gltfTriangle({-1, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2}));
+  CliResult r = run("render " + path("tri.gltf") + " --width 32 --height 32 --stats -o " + path("t.png"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("default key area light"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("area light 0: pcss"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("camera fitted to the objects' bounds: eye ("), std::string::npos) << r.out;
+  r = run("render " + path("tri.gltf") + " --no-default-light --width 32 --height 32 --stats -o " + path("t.png"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(r.out.find("default key area light"), std::string::npos) << r.out;
+  fs::remove(path("t.png"));
+  expectBadInput("render --tonemap filmic -o " + path("o.png"), "--tonemap", path("o.png"));
+  expectBadInput("render --exposure 30 -o " + path("o.png"), "--exposure", path("o.png"));
+}
+
 TEST_F(Cli, Version) {
   const CliResult r = run("--version");
   EXPECT_EQ(r.status, 0);

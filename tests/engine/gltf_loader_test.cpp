@@ -855,3 +855,45 @@ TEST_F(GltfFiles, ImagesOutsideTheFolderFailOnlyWhenUsed) {
 
 }  // namespace
 }  // namespace penumbra::engine
+
+namespace penumbra::engine {
+namespace {
+
+// KHR_lights_punctual: directional, point and spot lights on nodes, placed and aimed by the node,
+// photometric intensities divided by pi; a required extension we now support.
+TEST_F(GltfLoader, LightsPunctual) {
+  Gltf g = triangle();
+  g.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+  g.doc["extensionsRequired"] = {"KHR_lights_punctual"};
+  g.doc["extensions"] = {{"KHR_lights_punctual",
+                          {{"lights",
+                            {{{"type", "directional"}, {"intensity", 3.14159265}},
+                             {{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 6.2831853}, {"range", 10}},
+                             {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.1}, {"outerConeAngle", 0.5}}}}}}}}};
+  g.node({{"translation", {0, 5, 0}}, {"rotation", {-0.70710678, 0, 0, 0.70710678}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  g.node({{"translation", {1, 2, 3}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+  g.node({{"translation", {0, 4, 0}}, {"rotation", {-0.70710678, 0, 0, 0.70710678}}, {"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
+  g.scene({0, 1, 2, 3});
+  const Scene s = load(write("lights.gltf", g.text()));
+  ASSERT_EQ(s.directionalLights.size(), 1u);
+  ASSERT_EQ(s.pointLights.size(), 1u);
+  ASSERT_EQ(s.spotLights.size(), 1u);
+  // -z turned a quarter around x points down.
+  EXPECT_NEAR(s.directionalLights[0].direction.y, -1.0f, 1e-5f);
+  EXPECT_NEAR(s.directionalLights[0].intensity, 1.0f, 1e-5f);
+  EXPECT_NEAR(s.pointLights[0].position.z, 3.0f, 1e-6f);
+  EXPECT_NEAR(s.pointLights[0].intensity, 2.0f, 1e-5f);
+  EXPECT_EQ(s.pointLights[0].range, 10.0f);
+  EXPECT_EQ(s.pointLights[0].color.y, 0.5f);
+  EXPECT_NEAR(s.spotLights[0].direction.y, -1.0f, 1e-5f);
+  EXPECT_NEAR(s.spotLights[0].outerCone, 0.5f, 1e-6f);
+  // A light index that does not exist, and a bad cone, are errors.
+  g.doc["nodes"][3]["extensions"]["KHR_lights_punctual"]["light"] = 7;
+  expectError(write("badlight.gltf", g.text()), "uses light 7, which does not exist");
+  g.doc["nodes"][3]["extensions"]["KHR_lights_punctual"]["light"] = 2;
+  g.doc["extensions"]["KHR_lights_punctual"]["lights"][2]["spot"]["innerConeAngle"] = 0.6;
+  expectError(write("badcone.gltf", g.text()), "spot cones");
+}
+
+}  // namespace
+}  // namespace penumbra::engine

@@ -299,7 +299,8 @@ TEST_F(SceneFile, BadValuesNameTheirJsonPath) {
   error(json({{"camera", {{"eye", {1, 1, 1}}, {"target", {1, 1, 1}}}}}), "camera.target must differ from eye");
   error(json({{"camera", {{"eye", {0, 5, 0}}, {"target", {0, 0, 0}}}}}), "camera.up must not be parallel");
   error(json({{"camera", {{"near", 10}, {"far", 1}}}}), "camera.far must be > near");
-  error(json({{"lights", {{{"type", "spot"}}}}}), "lights[0].type must be 'directional', 'point' or 'area'");
+  error(json({{"lights", {{{"type", "lamp"}}}}}), "lights[0].type must be 'directional', 'point', 'spot' or 'area'");
+  error(json({{"lights", {{{"type", "spot"}, {"position", {0, 1, 0}}, {"direction", {0, -1, 0}}, {"inner_deg", 50}, {"outer_deg", 40}}}}}), "lights[0].inner_deg must be");
   error(json({{"lights", {{{"type", "area"}, {"center", {0, 4, 0}}}}}}), "lights[0].normal is required");
   error(json({{"lights", {{{"type", "area"}, {"center", {0, 4, 0}}, {"normal", {0, -1, 0}}, {"width", 0}}}}}),
         "lights[0].width must be > 0");
