@@ -9,6 +9,7 @@
 #include <limits>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
@@ -141,6 +142,60 @@ std::vector<uint32_t> headlightColors(const engine::Scene& scene, const SurfaceP
   return colors;
 }
 
+namespace {
+
+// One line of an .xyz file into `out`; an Error naming the file and line, or nothing.
+std::optional<engine::Error> xyzLine(std::string_view view, int64_t lineNo, const std::string& path, XyzCloud& out) {
+  if (!view.empty() && view.back() == '\r') view.remove_suffix(1);
+  const std::vector<std::string_view> f = fields(view);
+  if (f.empty() || f[0][0] == '#') return std::nullopt;
+  auto bad = [&](const std::string& what) {
+    return std::optional<engine::Error>(engine::Error{path, "line " + std::to_string(lineNo) + ": " + what});
+  };
+  if (f.size() != 3 && f.size() != 6)
+    return bad("expected 3 fields (x y z) or 6 (x y z r g b), got " + std::to_string(f.size()));
+  if (static_cast<int64_t>(out.positions.size()) == kMaxCloudPoints)
+    return bad("more than " + std::to_string(kMaxCloudPoints) + " points");
+  float xyz[3];
+  for (int k = 0; k < 3; ++k) {
+    std::string_view s = f[static_cast<size_t>(k)];
+    if (s.size() > 1 && s[0] == '+' && s[1] != '+' && s[1] != '-')
+      s.remove_prefix(1);  // from_chars takes no '+'
+    // Parsed as double, then rounded to float: a magnitude too small for a float becomes 0 (or a
+    // subnormal) whatever its exponent; one too large for a float is an error.
+    double v = 0.0;
+    const auto [end, err] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (err != std::errc() && err != std::errc::result_out_of_range)
+      return bad("coordinate " + quoted(s) + " is not a number");
+    if (end != s.data() + s.size()) return bad("coordinate " + quoted(s) + " is not a number");
+    if (err == std::errc::result_out_of_range) {
+      // Out of double's range: below its smallest subnormal (a tiny exponent) is 0; above is too large.
+      const size_t e = s.find_first_of("eE");
+      const bool tiny = e != std::string_view::npos && e + 1 < s.size() && s[e + 1] == '-';
+      if (!tiny) return bad("coordinate " + quoted(s) + " is out of the float range");
+      v = 0.0;
+    }
+    if (!std::isfinite(v)) return bad("coordinate " + quoted(s) + " is not finite");
+    if (std::abs(v) > static_cast<double>(std::numeric_limits<float>::max()))
+      return bad("coordinate " + quoted(s) + " is out of the float range");
+    xyz[k] = static_cast<float>(v);
+  }
+  uint8_t rgb[3] = {255, 255, 255};
+  for (size_t k = 0; k < 3 && f.size() == 6; ++k) {
+    const std::string_view s = f[3 + k];
+    int v = -1;
+    const auto [end, err] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (err != std::errc() || end != s.data() + s.size() || v < 0 || v > 255)
+      return bad("color " + quoted(s) + " is not an integer in [0, 255]");
+    rgb[k] = static_cast<uint8_t>(v);
+  }
+  out.positions.emplace_back(xyz[0], xyz[1], xyz[2]);
+  out.colors.push_back(raster::packRgba8({rgb[0], rgb[1], rgb[2], 255}));
+  return std::nullopt;
+}
+
+}  // namespace
+
 engine::Result<XyzCloud> readXyz(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return engine::Error{path, "no such file"};
@@ -150,57 +205,23 @@ engine::Result<XyzCloud> readXyz(const std::string& path) {
   XyzCloud out;
   std::string line;
   int64_t lineNo = 0;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    std::string_view view(line);
-    if (!view.empty() && view.back() == '\r') view.remove_suffix(1);
-    const std::vector<std::string_view> f = fields(view);
-    if (f.empty() || f[0][0] == '#') continue;
-    auto bad = [&](const std::string& what) {
-      return engine::Error{path, "line " + std::to_string(lineNo) + ": " + what};
-    };
-    if (f.size() != 3 && f.size() != 6)
-      return bad("expected 3 fields (x y z) or 6 (x y z r g b), got " + std::to_string(f.size()));
-    if (static_cast<int64_t>(out.positions.size()) == kMaxCloudPoints)
-      return bad("more than " + std::to_string(kMaxCloudPoints) + " points");
-    float xyz[3];
-    for (int k = 0; k < 3; ++k) {
-      std::string_view s = f[static_cast<size_t>(k)];
-      if (s.size() > 1 && s[0] == '+' && s[1] != '+' && s[1] != '-')
-        s.remove_prefix(1);  // from_chars takes no '+'
-      // Parsed as double, then rounded to float: a magnitude too small for a float becomes 0 (or a
-      // subnormal) whatever its exponent; one too large for a float is an error.
-      double v = 0.0;
-      const auto [end, err] = std::from_chars(s.data(), s.data() + s.size(), v);
-      if (err != std::errc() && err != std::errc::result_out_of_range)
-        return bad("coordinate " + quoted(s) + " is not a number");
-      if (end != s.data() + s.size()) return bad("coordinate " + quoted(s) + " is not a number");
-      if (err == std::errc::result_out_of_range) {
-        // Out of double's range: below its smallest subnormal (a tiny exponent) is 0; above is too large.
-        const size_t e = s.find_first_of("eE");
-        const bool tiny = e != std::string_view::npos && e + 1 < s.size() && s[e + 1] == '-';
-        if (!tiny) return bad("coordinate " + quoted(s) + " is out of the float range");
-        v = 0.0;
-      }
-      if (!std::isfinite(v)) return bad("coordinate " + quoted(s) + " is not finite");
-      if (std::abs(v) > static_cast<double>(std::numeric_limits<float>::max()))
-        return bad("coordinate " + quoted(s) + " is out of the float range");
-      xyz[k] = static_cast<float>(v);
-    }
-    uint8_t rgb[3] = {255, 255, 255};
-    for (size_t k = 0; k < 3 && f.size() == 6; ++k) {
-      const std::string_view s = f[3 + k];
-      int v = -1;
-      const auto [end, err] = std::from_chars(s.data(), s.data() + s.size(), v);
-      if (err != std::errc() || end != s.data() + s.size() || v < 0 || v > 255)
-        return bad("color " + quoted(s) + " is not an integer in [0, 255]");
-      rgb[k] = static_cast<uint8_t>(v);
-    }
-    out.positions.emplace_back(xyz[0], xyz[1], xyz[2]);
-    out.colors.push_back(raster::packRgba8({rgb[0], rgb[1], rgb[2], 255}));
-  }
+  while (std::getline(in, line))
+    if (std::optional<engine::Error> e = xyzLine(line, ++lineNo, path, out)) return *e;
   if (in.bad()) return engine::Error{path, "read error after line " + std::to_string(lineNo)};
   if (out.positions.empty()) return engine::Error{path, "no points in the file"};
+  return out;
+}
+
+engine::Result<XyzCloud> parseXyz(std::string_view text, const std::string& name) {
+  XyzCloud out;
+  int64_t lineNo = 0;
+  for (size_t start = 0; start < text.size();) {
+    size_t lineEnd = text.find('\n', start);
+    if (lineEnd == std::string_view::npos) lineEnd = text.size();
+    if (std::optional<engine::Error> e = xyzLine(text.substr(start, lineEnd - start), ++lineNo, name, out)) return *e;
+    start = lineEnd + 1;
+  }
+  if (out.positions.empty()) return engine::Error{name, "no points in the file"};
   return out;
 }
 

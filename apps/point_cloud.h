@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/error.h"
@@ -58,5 +59,7 @@ struct XyzCloud {
 
 // Reads an .xyz file (format above). Errors name the file and, for its contents, "line N".
 engine::Result<XyzCloud> readXyz(const std::string& path);
+// The same from text in memory; `name` names it in errors.
+engine::Result<XyzCloud> parseXyz(std::string_view text, const std::string& name);
 
 }  // namespace penumbra::apps

@@ -23,6 +23,7 @@ struct LoadOptions {
   bool allowOutsidePaths = false;  // files may name files outside their own folder
   uint64_t maxBytes = 0;           // a model whose files (the glTF, its buffers) exceed this is refused
                                    // before they are read; 0: no limit
+  size_t maxTriangles = 0;         // a scene file's procedural shapes, in all; 0: the default cap (2^26)
 };
 
 // `reference` (a relative path, already percent-decoded where it came from a URI) resolved against

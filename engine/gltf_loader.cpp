@@ -271,6 +271,11 @@ class Loader {
   Result<Scene> run() {
     std::vector<unsigned char> data;
     if (Status s = readFile(data); !s) return s.error();
+    return run(std::move(data));
+  }
+
+  Result<Scene> run(std::vector<unsigned char> data) {
+    if (data.size() > std::numeric_limits<unsigned int>::max()) return fail("file is larger than 4 GiB");
     const bool binary = data.size() >= 4 && std::memcmp(data.data(), "glTF", 4) == 0;
     if (Status s = checkJsonDepth(data, binary); !s) return s.error();
     if (Status s = scanReferences(data, binary); !s) return s.error();
@@ -959,6 +964,17 @@ Result<Scene> loadGltf(const std::string& path, const LoadOptions& options, Gltf
   stats = GltfLoadStats{};
   try {
     return Loader(path, options, stats).run();
+  } catch (const std::bad_alloc&) {
+    return Error{path, "out of memory while loading"};
+  } catch (const std::exception& e) {
+    return Error{path, "invalid glTF: " + condense(e.what())};
+  }
+}
+
+Result<Scene> parseGltf(std::vector<unsigned char> bytes, const std::string& path, const LoadOptions& options) {
+  GltfLoadStats stats;
+  try {
+    return Loader(path, options, stats).run(std::move(bytes));
   } catch (const std::bad_alloc&) {
     return Error{path, "out of memory while loading"};
   } catch (const std::exception& e) {

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "engine/error.h"
 #include "engine/file_access.h"
@@ -34,5 +35,8 @@ struct GltfLoadStats {
 
 Result<Scene> loadGltf(const std::string& path, const LoadOptions& options = {});
 Result<Scene> loadGltf(const std::string& path, const LoadOptions& options, GltfLoadStats& stats);
+// The same from the file's bytes in memory (.gltf text or .glb); `path` names it in errors and its
+// folder is where the files it names are looked for.
+Result<Scene> parseGltf(std::vector<unsigned char> bytes, const std::string& path, const LoadOptions& options = {});
 
 }  // namespace penumbra::engine

@@ -282,8 +282,8 @@ class SceneParser {
     auto reserve = [&](size_t triangles) {
       if (!counting_) return;
       triangles_ += triangles;
-      if (triangles_ > kMaxSceneTriangles)
-        invalid(at + ": the scene's shapes exceed " + std::to_string(kMaxSceneTriangles) + " triangles");
+      const size_t cap = options_.maxTriangles > 0 ? std::min(options_.maxTriangles, kMaxSceneTriangles) : kMaxSceneTriangles;
+      if (triangles_ > cap) invalid(at + ": the scene's shapes exceed " + std::to_string(cap) + " triangles");
       counted = true;
     };
     Mesh mesh;

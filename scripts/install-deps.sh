@@ -4,7 +4,8 @@
 set -euo pipefail
 pkgs=(g++ cmake ninja-build pkg-config git
       libglm-dev libtbb-dev libhwy-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libembree-dev
-      libopenimageio-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev)
+      libopenimageio-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
+      clang-14 libclang-rt-14-dev)  # the fuzz targets (scripts/fuzz.sh): libFuzzer
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -3,7 +3,9 @@
 #   1. Release build, all tests (labels: unit, cli);
 #   2. AddressSanitizer + UndefinedBehaviorSanitizer build of everything, all tests again (the CLI
 #      tests then run the sanitized `penumbra` binary).
-# Set PENUMBRA_SKIP_SANITIZE=1 to run only the first part.
+#   3. the fuzz targets of tests/fuzz (clang's libFuzzer, ASan + UBSan), 20 s each from the seed
+#      corpus with a fixed seed (scripts/fuzz.sh; run it alone for longer runs).
+# Set PENUMBRA_SKIP_SANITIZE=1 to run only the first part, PENUMBRA_SKIP_FUZZ=1 to skip the third.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -21,4 +23,9 @@ if [ "${PENUMBRA_SKIP_SANITIZE:-0}" != 1 ]; then
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS=suppressions="$PWD/tests/lsan.supp" \
     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build/sanitize -j"$jobs" --output-on-failure --timeout 1800
+fi
+
+if [ "${PENUMBRA_SKIP_FUZZ:-0}" != 1 ]; then
+  echo "== fuzz targets under ASan + UBSan"
+  PENUMBRA_FUZZ_SEED=${PENUMBRA_FUZZ_SEED:-1} scripts/fuzz.sh "${PENUMBRA_FUZZ_SECONDS:-20}"
 fi
