@@ -33,10 +33,13 @@ for t in "${targets[@]}"; do
   # and the suppressions of tests/lsan.supp (OpenImageIO's own leak on corrupt PNGs) cannot match.
   unwind=1
   [ "$t" = image ] && unwind=0
-  # New inputs go to the first folder; the regressions are read only.
+  # New inputs go to the first folder; the regressions (if the target has any: git keeps no empty
+  # folder) are read only.
+  inputs=("build/fuzz/corpus/$t")
+  [ -d "tests/fuzz/regressions/$t" ] && inputs+=("tests/fuzz/regressions/$t")
   if ! ASAN_OPTIONS="$ASAN_OPTIONS:fast_unwind_on_malloc=$unwind" "build/fuzz/tests/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2560 \
       -print_final_stats=1 -seed="${PENUMBRA_FUZZ_SEED:-0}" -artifact_prefix="build/fuzz/crashes/$t-" \
-      "build/fuzz/corpus/$t" "tests/fuzz/regressions/$t" 2>"build/fuzz/$t.log"; then
+      "${inputs[@]}" 2>"build/fuzz/$t.log"; then
     tail -n 40 "build/fuzz/$t.log"
     echo "fuzz $t: failed; the input is in build/fuzz/crashes/" >&2
     exit 1
