@@ -2,6 +2,7 @@
 // over runs) and compared with the ray-traced ground truth; a report (JSON, CSV, HTML with images,
 // error heat maps and a Pareto plot per scene) in the output folder.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <thread>
@@ -20,18 +21,6 @@
 namespace penumbra::apps {
 
 namespace {
-
-// Receivers the light can reach (valid, in front, part of the light above their horizon): where V
-// is compared.
-raster::Image<uint8_t> comparisonMask(const engine::Frame& frame, const shadows::RectLight& light) {
-  raster::Image<uint8_t> mask(frame.gbuffer.width(), frame.gbuffer.height(), 0);
-  for (int y = 0; y < mask.height(); ++y)
-    for (int x = 0; x < mask.width(); ++x) {
-      const engine::GBufferTexel& g = frame.gbuffer.at(x, y);
-      mask.at(x, y) = g.material >= 0 && shadows::irradianceFactor(light, g.position, g.normal) > 0.0f ? 1 : 0;
-    }
-  return mask;
-}
 
 std::string safeName(std::string s) {
   for (char& c : s)
@@ -75,7 +64,7 @@ int runBenchShadows(const BenchShadowsArgs& a) {
   requireBenchBasics(a.width, a.height, a.runs, a.threads);
   require(kGtSamplesOption, a.gtSamples);
   std::vector<std::string> sceneNames = a.scenes;
-  if (sceneNames.empty()) sceneNames = {"contact", "fusion", "thin", "complex", "biglight"};
+  if (sceneNames.empty()) sceneNames = {"contact", "fusion", "thin", "complex", "biglight", "creature", "knot", "menagerie"};
   std::vector<std::pair<std::string, engine::Scene>> scenes;
   for (const std::string& name : sceneNames) {
     scenes.push_back(loadSceneArgument(name, {.allowOutsidePaths = a.allowOutsidePaths}));
@@ -151,7 +140,7 @@ int runBenchShadows(const BenchShadowsArgs& a) {
     refOpt.shadow = "reference";
     refOpt.shadowParams = {"samples=" + std::to_string(a.gtSamples)};
     const engine::Frame ref = renderer.render(scene, resolveOrFail(refOpt));
-    const raster::Image<uint8_t> mask = comparisonMask(ref, scene.areaLights[0]);
+    const raster::Image<uint8_t> mask = engine::receiverClasses(scene, ref, scene.areaLights[0]);
     engine::ShadowBenchScene rs;
     rs.name = name;
     for (const engine::BuiltinInfo& b : engine::builtinScenes())
@@ -174,7 +163,13 @@ int runBenchShadows(const BenchShadowsArgs& a) {
       opt.shadow = info->name;
       opt.shadowParams = {params};
       const Timed t = timedRender(renderer, scene, opt, a.runs);
-      const engine::VisibilityError e = engine::compareVisibility(t.frame.visibility.at(0), ref.visibility.at(0), mask);
+      const raster::ImageFloat& vis = t.frame.visibility.at(0);
+      const raster::ImageFloat& refVis = ref.visibility.at(0);
+      const engine::VisibilityError e = engine::compareVisibility(vis, refVis, mask);
+      const engine::VisibilityError eg = engine::compareVisibility(vis, refVis, mask, engine::kGroundReceiver);
+      const engine::VisibilityError eo = engine::compareVisibility(vis, refVis, mask, engine::kObjectReceiver);
+      const engine::VisibilityError ecn = engine::compareVisibility(vis, refVis, mask, engine::kContactReceiver);
+      const auto orNan = [](const engine::VisibilityError& x, double v) { return x.pixels > 0 ? v : std::nan(""); };
       engine::ShadowBenchRow row;
       row.scene = name;
       row.technique = info->name;
@@ -189,6 +184,10 @@ int runBenchShadows(const BenchShadowsArgs& a) {
       row.msEvaluate = t.msEvaluate;
       row.msTotal = t.msTotal;
       row.rmseV = e.rmse;
+      row.biasV = e.bias;
+      row.rmseGround = orNan(eg, eg.rmse), row.biasGround = orNan(eg, eg.bias);
+      row.rmseObject = orNan(eo, eo.rmse), row.biasObject = orNan(eo, eo.bias);
+      row.rmseContact = orNan(ecn, ecn.rmse), row.biasContact = orNan(ecn, ecn.bias);
       row.maxErrV = e.maxErr;
       row.fracErrGt005 = e.fracOver005;
       row.rmseImage = engine::imageRmse(t.frame.color, ref.color);
@@ -204,11 +203,12 @@ int runBenchShadows(const BenchShadowsArgs& a) {
       if (a.json) {
         std::printf("%s\n", engine::toJson(row).c_str());
       } else {
-        std::printf("%-9s %-6s %-40s maps %8.2f filter %7.2f eval %8.2f total %8.2f ms  rmse_v %.4f max %.3f >0.05 %5.1f%%  "
-                    "rmse_img %.4f\n",
+        std::printf("%-9s %-6s %-40s maps %8.2f filter %7.2f eval %8.2f total %8.2f ms  rmse_v %.4f bias %+.4f max %.3f "
+                    ">0.05 %5.1f%%  ground %.4f %+.4f  object %.4f %+.4f  contact %.4f %+.4f  rmse_img %.4f\n",
                     name.c_str(), info->name.c_str(), row.params.empty() ? "(defaults)" : row.params.c_str(), row.msMaps,
-                    row.msFilter, row.msEvaluate, row.msTotal, row.rmseV, row.maxErrV, 100.0 * row.fracErrGt005,
-                    row.rmseImage);
+                    row.msFilter, row.msEvaluate, row.msTotal, row.rmseV, row.biasV, row.maxErrV,
+                    100.0 * row.fracErrGt005, row.rmseGround, row.biasGround, row.rmseObject, row.biasObject,
+                    row.rmseContact, row.biasContact, row.rmseImage);
       }
       std::fflush(stdout);
     }

@@ -22,20 +22,24 @@ using report::jsonNumber;
 
 // ---- JSON and CSV -------------------------------------------------------------------------------
 
+// The numeric columns of a row, in order (JSON keys and CSV header alike).
+std::vector<std::pair<const char*, double>> numericColumns(const ShadowBenchRow& r) {
+  return {{"ms_maps", r.msMaps},           {"ms_filter", r.msFilter},
+          {"ms_prepare", r.msPrepare},     {"ms_evaluate", r.msEvaluate},
+          {"ms_total", r.msTotal},         {"rmse_v", r.rmseV},
+          {"bias_v", r.biasV},             {"max_err_v", r.maxErrV},
+          {"frac_err_gt_005", r.fracErrGt005}, {"rmse_v_ground", r.rmseGround},
+          {"bias_v_ground", r.biasGround}, {"rmse_v_object", r.rmseObject},
+          {"bias_v_object", r.biasObject}, {"rmse_v_contact", r.rmseContact},
+          {"bias_v_contact", r.biasContact}, {"rmse_image", r.rmseImage}};
+}
+
 Json rowJson(const ShadowBenchRow& r) {
   Json j;
   j["scene"] = r.scene;
   j["technique"] = r.technique;
   j["params"] = r.params;
-  j["ms_maps"] = jsonNumber(r.msMaps);
-  j["ms_filter"] = jsonNumber(r.msFilter);
-  j["ms_prepare"] = jsonNumber(r.msPrepare);
-  j["ms_evaluate"] = jsonNumber(r.msEvaluate);
-  j["ms_total"] = jsonNumber(r.msTotal);
-  j["rmse_v"] = jsonNumber(r.rmseV);
-  j["max_err_v"] = jsonNumber(r.maxErrV);
-  j["frac_err_gt_005"] = jsonNumber(r.fracErrGt005);
-  j["rmse_image"] = jsonNumber(r.rmseImage);
+  for (const auto& [key, value] : numericColumns(r)) j[key] = jsonNumber(value);
   return j;
 }
 
@@ -90,6 +94,7 @@ std::string paretoSvg(const ShadowBenchScene& scene, const std::vector<ShadowBen
 // ---- HTML ---------------------------------------------------------------------------------------
 
 using report::escapeXml;
+using report::fmtBias;
 using report::fmtErr;
 using report::fmtMs;
 using report::fmtPercent;
@@ -118,8 +123,9 @@ std::string sceneSection(size_t index, const ShadowBenchScene& scene, const std:
   }
 
   s += "<table>\n<tr><th>technique</th><th>params</th><th>views</th><th>maps ms</th><th>filter ms</th>"
-       "<th>prepare ms</th><th>evaluate ms</th><th>total ms</th><th>RMSE V</th><th>max |err| V</th>"
-       "<th>|err| &gt; 0.05</th><th>RMSE image</th></tr>\n";
+       "<th>prepare ms</th><th>evaluate ms</th><th>total ms</th><th>RMSE V</th><th>bias V</th><th>max |err| V</th>"
+       "<th>|err| &gt; 0.05</th><th>ground RMSE / bias</th><th>object RMSE / bias</th><th>contact RMSE / bias</th>"
+       "<th>RMSE image</th></tr>\n";
   for (size_t i = 0; i < rows.size(); ++i) {
     const ShadowBenchRow& r = rows[i];
     auto num = [](const std::string& v) { return "<td class=\"num\">" + v + "</td>"; };
@@ -127,8 +133,10 @@ std::string sceneSection(size_t index, const ShadowBenchScene& scene, const std:
     s += "<td>" + escapeXml(r.technique) + "</td><td>" + escapeXml(r.params) + "</td>" +
          num(r.views > 0 ? std::to_string(r.views) : "&ndash;") + num(fmtMs(r.msMaps)) +
          num(fmtMs(r.msFilter)) + num(fmtMs(r.msPrepare)) + num(fmtMs(r.msEvaluate)) + num(fmtMs(r.msTotal)) +
-         num(fmtErr(r.rmseV)) + num(fmtErr(r.maxErrV)) + num(fmtPercent(r.fracErrGt005)) +
-         num(fmtErr(r.rmseImage)) + "</tr>\n";
+         num(fmtErr(r.rmseV)) + num(fmtBias(r.biasV)) + num(fmtErr(r.maxErrV)) + num(fmtPercent(r.fracErrGt005)) +
+         num(fmtErr(r.rmseGround) + " / " + fmtBias(r.biasGround)) +
+         num(fmtErr(r.rmseObject) + " / " + fmtBias(r.biasObject)) +
+         num(fmtErr(r.rmseContact) + " / " + fmtBias(r.biasContact)) + num(fmtErr(r.rmseImage)) + "</tr>\n";
   }
   s += "</table>\n<p class=\"note\">Highlighted rows are Pareto-optimal: no other row here is both as fast "
        "and as "
@@ -188,16 +196,16 @@ std::string toJson(const ShadowBenchRow& row) {
 }
 
 std::string csvHeader() {
-  return "scene,technique,params,ms_maps,ms_filter,ms_prepare,ms_evaluate,ms_total,rmse_v,max_err_v,"
-         "frac_err_gt_005,rmse_image";
+  std::string s = "scene,technique,params";
+  for (const auto& [key, value] : numericColumns(ShadowBenchRow{})) s += std::string(",") + key;
+  return s;
 }
 
 std::string toCsv(const ShadowBenchRow& r) {
   std::string s = report::csvField(r.scene) + "," + report::csvField(r.technique) + "," + report::csvField(r.params);
-  for (double v : {r.msMaps, r.msFilter, r.msPrepare, r.msEvaluate, r.msTotal, r.rmseV, r.maxErrV,
-                   r.fracErrGt005, r.rmseImage}) {
+  for (const auto& [key, value] : numericColumns(r)) {
     s += ',';  // appended separately: GCC 12 warns (-Wrestrict, a false positive) on "," + std::string
-    s += report::number(v);
+    s += report::number(value);
   }
   return s;
 }

@@ -2,9 +2,11 @@
 // and errors against the ray-traced reference, written as JSON, CSV, a static HTML page and one
 // Pareto plot (time against error) per scene as SVG.
 //
-// Units: times in milliseconds of wall-clock time; rmse_v, max_err_v in units of V (the visible
-// fraction of the light, [0, 1]); frac_err_gt_005 a fraction in [0, 1]; rmse_image in [0, 1]
-// (engine/metrics.h says how each is measured).
+// Units: times in milliseconds of wall-clock time; rmse_v, bias_v (the signed mean error, positive
+// = too bright), max_err_v in units of V (the visible fraction of the light, [0, 1]);
+// frac_err_gt_005 a fraction in [0, 1]; rmse_image in [0, 1] (engine/metrics.h says how each is
+// measured). rmse_v and bias_v again for the ground, object and contact receivers alone
+// (metrics.h, receiverClasses): NaN (null in JSON) where a scene has none.
 //
 // Files written by writeShadowReport into its directory (each one atomically: a temporary file in
 // the same directory renamed over the destination, so a reader never sees a partial file):
@@ -31,7 +33,9 @@ struct ShadowBenchRow {
   std::string scene, technique, params;  // params: "name=value,..." as the technique was run
   int views = 0;                         // light views rendered; 0 when not applicable
   double msMaps = 0, msFilter = 0, msPrepare = 0, msEvaluate = 0, msTotal = 0;
-  double rmseV = 0, maxErrV = 0, fracErrGt005 = 0, rmseImage = 0;
+  double rmseV = 0, biasV = 0, maxErrV = 0, fracErrGt005 = 0, rmseImage = 0;
+  // By receiver class (metrics.h): ground, object, contact.
+  double rmseGround = 0, biasGround = 0, rmseObject = 0, biasObject = 0, rmseContact = 0, biasContact = 0;
   std::string image, heatMap;  // file names relative to the report directory, "" if none
 };
 
@@ -43,7 +47,9 @@ struct ShadowBenchScene {
 };
 
 // One line of JSON (no newline) with exactly the keys scene, technique, params, ms_maps, ms_filter,
-// ms_prepare, ms_evaluate, ms_total, rmse_v, max_err_v, frac_err_gt_005, rmse_image, in that order.
+// ms_prepare, ms_evaluate, ms_total, rmse_v, bias_v, max_err_v, frac_err_gt_005, rmse_v_ground,
+// bias_v_ground, rmse_v_object, bias_v_object, rmse_v_contact, bias_v_contact, rmse_image, in that
+// order.
 // Numbers are written in the shortest form that reads back to the same double; a non-finite
 // number (which JSON cannot hold) is written as null.
 std::string toJson(const ShadowBenchRow& row);

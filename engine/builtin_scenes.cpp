@@ -1,8 +1,10 @@
 #include "engine/builtin_scenes.h"
 
 #include <glm/ext/matrix_transform.hpp>
+#include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <iterator>
 #include <numbers>
 
 #include "engine/shapes.h"
@@ -196,6 +198,99 @@ Scene makeBigLight() {
   return s;
 }
 
+// --- Curved meshes (docs/performance.md, "Soft shadows on curved meshes") ------------------------
+// What scanned and modelled content looks like to the shadow techniques: fine closed meshes with
+// self-shadowing concavities, thin protrusions, surfaces turning away from the light (the
+// terminator) and feet resting on the ground (contact).
+
+// A lobe of a radial surface: length `len` along unit `axis`, angular width ~sqrt(w) radians.
+float lobe(glm::vec3 d, glm::vec3 axis, float len, float w) { return len * std::exp((glm::dot(d, axis) - 1.0f) / w); }
+
+// A four-legged creature: an ellipsoid body, legs splayed down, two thin ears, a head, a thin tail
+// and ripples on its back.
+float creatureRadius(glm::vec3 d) {
+  const float body = 1.0f / std::sqrt(d.x * d.x / (1.25f * 1.25f) + d.y * d.y / (0.75f * 0.75f) + d.z * d.z / (0.8f * 0.8f));
+  float r = body;
+  for (const float sx : {-1.0f, 1.0f})
+    for (const float sz : {-1.0f, 1.0f}) r += lobe(d, glm::normalize(glm::vec3(0.55f * sx, -1.0f, 0.45f * sz)), 1.05f, 0.008f);
+  for (const float sz : {-1.0f, 1.0f}) r += lobe(d, glm::normalize(glm::vec3(0.5f, 1.0f, 0.3f * sz)), 0.75f, 0.003f);
+  r += lobe(d, glm::normalize(glm::vec3(1.0f, 0.35f, 0.0f)), 0.45f, 0.06f);
+  r += lobe(d, glm::normalize(glm::vec3(-1.0f, 0.25f, 0.0f)), 0.9f, 0.003f);
+  if (d.y > 0.0f) r += 0.03f * d.y * std::sin(14.0f * d.x) * std::sin(11.0f * d.z);
+  return r;
+}
+
+// A sphere with deep folds (the "complex" blob's displacement).
+float foldsRadius(glm::vec3 d) {
+  return 1.0f + 0.22f * std::sin(7.0f * d.x + 1.3f) * std::sin(6.0f * d.y) * std::sin(7.0f * d.z + 0.4f) +
+         0.08f * std::sin(23.0f * d.y + 5.0f * d.x);
+}
+
+// Stands a mesh on the ground y = 0: the parts lower than `sink` above its lowest point are
+// flattened onto it (feet and a flat base with real contact), then it is moved down onto y = 0.
+Mesh standOnGround(Mesh m, float sink) {
+  float lo = INFINITY;
+  for (const glm::vec3& p : m.positions) lo = std::min(lo, p.y);
+  const float floor = lo + sink;
+  for (glm::vec3& p : m.positions) p.y = std::max(p.y, floor) - floor;
+  computeWeldedNormals(m);
+  computeBounds(m);
+  return m;
+}
+
+Mesh creature(int div) { return standOnGround(makeRadialSurface(div, creatureRadius), 0.04f); }
+Mesh folds(int div) { return standOnGround(makeRadialSurface(div, foldsRadius), 0.05f); }
+// A trefoil lying on the ground: its three lowest strands touch it.
+Mesh knot(int segments, int sides) { return standOnGround(makeTorusKnot(2, 3, 1.0f, 0.42f, 0.16f, segments, sides), 0.0f); }
+
+Scene makeCreature() {
+  Scene s = shadowStage("creature", {2.6f, 2.8f, 5.2f}, {0.0f, 0.8f, 0.0f});
+  addObject(s, "creature", creature(130), addMaterial(s, "clay", {0.74f, 0.66f, 0.56f}), at({0.0f, 0.0f, 0.0f}, 20.0f));
+  addAreaLight(s, {-2.4f, 4.6f, 1.8f}, {2.4f, -3.8f, -1.8f}, 1.6f, 1.1f, glm::vec3(1.0f), 30.0f);
+  return s;
+}
+
+Scene makeKnot() {
+  Scene s = shadowStage("knot", {0.8f, 3.6f, 5.6f}, {0.3f, 0.6f, 0.0f});
+  const int m = addMaterial(s, "stone", {0.7f, 0.68f, 0.64f});
+  addObject(s, "knot", knot(1536, 48), m, at({-0.9f, 0.0f, 0.1f}, 15.0f, 1.1f));
+  addObject(s, "folds", folds(100), m, at({1.9f, 0.0f, -0.6f}, 0.0f, 0.75f));
+  addAreaLight(s, {2.8f, 4.4f, 1.2f}, {-2.8f, -4.2f, -1.2f}, 1.4f, 1.4f, glm::vec3(1.0f), 30.0f);
+  return s;
+}
+
+// Many objects: creatures, knots and folded blobs of several sizes on one ground (instances of
+// three meshes), shadows falling on each other.
+Scene makeMenagerie() {
+  Scene s = shadowStage("menagerie", {0.0f, 6.5f, 8.5f}, {0.0f, 0.5f, 0.0f});
+  const int m = addMaterial(s, "clay", {0.72f, 0.68f, 0.62f});
+  const int first = static_cast<int>(s.meshes.size());  // after the ground
+  const auto add = [&](const std::string& name, Mesh mesh) {
+    mesh.name = name;
+    mesh.material = m;
+    s.meshes.push_back(std::move(mesh));
+  };
+  add("creature", creature(60));
+  add("knot", knot(768, 24));
+  add("folds", folds(60));
+  const struct {
+    int mesh;
+    glm::vec3 p;
+    float yaw, scale;
+  } placed[] = {{0, {-3.0f, 0, -1.6f}, 30, 0.8f}, {1, {-0.2f, 0, -2.0f}, 10, 0.8f}, {2, {2.6f, 0, -1.8f}, 0, 0.7f},
+                {2, {-2.6f, 0, 1.0f}, 40, 0.5f},  {0, {0.4f, 0, 1.0f}, -50, 0.7f}, {1, {2.8f, 0, 0.8f}, 70, 0.6f},
+                {1, {-1.2f, 0, 2.6f}, -20, 0.5f}, {0, {1.4f, 0, 2.6f}, 160, 0.5f}, {2, {0.9f, 0, -0.6f}, 0, 0.35f}};
+  for (size_t i = 0; i < std::size(placed); ++i) {
+    Instance inst;
+    inst.mesh = first + placed[i].mesh;
+    inst.name = s.meshes[static_cast<size_t>(inst.mesh)].name + " " + std::to_string(i);
+    inst.transform = at(placed[i].p, placed[i].yaw, placed[i].scale);
+    s.instances.push_back(inst);
+  }
+  addAreaLight(s, {-2.0f, 6.0f, 2.5f}, {2.0f, -6.0f, -2.5f}, 2.2f, 1.6f, glm::vec3(1.0f), 22.0f);
+  return s;
+}
+
 // --- Stochastic rasterization scenes ----------------------------------------------------------
 // Motion blur, depth of field and both (docs/stochastic.md). A textured ground and static props
 // stay on the ordinary path; what moves (or, with a lens, everything) takes the stochastic pass.
@@ -303,6 +398,9 @@ std::vector<BuiltinInfo> builtinScenes() {
           {"thin", "shadow bench (c): a fence of thin slats, poles and a wire"},
           {"complex", "shadow bench (d): a displaced sphere of 128,000 triangles with self-shadowing (and one above the light)"},
           {"biglight", "shadow bench (e): a large light close to the objects"},
+          {"creature", "curved meshes: a 202,800-triangle creature with legs, thin ears and a tail standing on the ground"},
+          {"knot", "curved meshes: a 147,456-triangle trefoil knot lying on the ground and a 120,000-triangle folded blob"},
+          {"menagerie", "curved meshes: nine creatures, knots and folded blobs on one ground (instances of three meshes, 369,792 triangles)"},
           {"motion", "motion blur: a box, a ball and a wheel moving fast past static columns and a rock"},
           {"defocus", "depth of field: a row of objects receding from the camera, focus on the middle one"},
           {"motion-defocus", "both: the defocus row with the moving objects of 'motion' (5D)"},
@@ -318,6 +416,9 @@ Result<Scene> makeBuiltinScene(const std::string& name) {
   else if (name == "thin") s = makeThin();
   else if (name == "complex") s = makeComplex();
   else if (name == "biglight") s = makeBigLight();
+  else if (name == "creature") s = makeCreature();
+  else if (name == "knot") s = makeKnot();
+  else if (name == "menagerie") s = makeMenagerie();
   else if (name == "motion") s = makeMotion();
   else if (name == "defocus") s = makeDefocus();
   else if (name == "motion-defocus") s = makeMotionDefocus();

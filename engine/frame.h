@@ -22,9 +22,12 @@ namespace penumbra::engine {
 // One texel of the G-buffer.
 struct GBufferTexel {
   glm::vec3 position{0.0f};  // world space
-  glm::vec3 normal{0.0f};    // world space, unit, facing the viewer
+  glm::vec3 normal{0.0f};    // shading normal: world space, unit, facing the viewer (shading only)
+  glm::vec3 geometricNormal{0.0f};  // the face normal of the triangle seen, unit, facing the viewer:
+                                    // the tangent plane V is defined by (docs/techniques/reference.md)
   glm::vec3 albedo{0.0f};    // linear base color
   int32_t material = -1;     // -1: background
+  int32_t instance = -1;     // the scene's instance index; -1: background
 };
 
 // What the shadow computation of one area light did.

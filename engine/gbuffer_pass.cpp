@@ -17,6 +17,8 @@ const Material kDefaultMaterial{};  // for meshes without one (immutable)
 InstanceShading prepareInstance(const Scene& scene, const Instance& inst, const glm::mat4& t0, const glm::mat4& t1) {
   InstanceShading sh;
   const Mesh& mesh = scene.meshes[static_cast<size_t>(inst.mesh)];
+  sh.mesh = &mesh;
+  sh.instance = static_cast<int32_t>(&inst - scene.instances.data());
   const int matIndex = mesh.material;
   sh.mat = matIndex >= 0 ? &scene.materials[static_cast<size_t>(matIndex)] : &kDefaultMaterial;
   sh.tex = sh.mat->baseColorTexture >= 0 ? &scene.textures[static_cast<size_t>(sh.mat->baseColorTexture)] : nullptr;
@@ -60,7 +62,31 @@ void vertexVaryings(const Mesh& mesh, const InstanceShading& sh, uint32_t i, flo
   v[6] = uv.x, v[7] = uv.y;
 }
 
-GBufferTexel gbufferTexel(const InstanceShading& sh, const raster::Fragment& f, const glm::vec3& eye, float pixelAngle) {
+glm::vec3 faceNormal(const InstanceShading& sh, uint32_t primitive, float t, const glm::vec3& pointOn,
+                     const glm::vec3& towards, const glm::vec3& fallback) {
+  glm::vec3 p[3];
+  for (int j = 0; j < 3; ++j) {
+    const glm::vec4 o(sh.mesh->positions[sh.mesh->indices[static_cast<size_t>(primitive) * 3 + static_cast<size_t>(j)]],
+                      1.0f);
+    glm::vec4 wp = sh.t0 * o;
+    if (sh.moves) {  // the same straight line as vertexVaryings
+      const glm::vec4 wp1 = sh.t1 * o;
+      wp = glm::vec4(wp.x + (wp1.x - wp.x) * t, wp.y + (wp1.y - wp.y) * t, wp.z + (wp1.z - wp.z) * t, 1.0f);
+    }
+    p[j] = glm::vec3(wp);
+  }
+  // In double: the cross product of a fine mesh's short edges loses float precision.
+  const glm::dvec3 e1 = glm::dvec3(p[1]) - glm::dvec3(p[0]), e2 = glm::dvec3(p[2]) - glm::dvec3(p[0]);
+  const glm::dvec3 c = glm::cross(e1, e2);
+  const double len = glm::length(c);
+  if (!(len > 0.0) || !std::isfinite(len)) return fallback;
+  glm::vec3 n(c / len);
+  if (glm::dot(n, towards - pointOn) < 0.0f) n = -n;
+  return n;
+}
+
+GBufferTexel gbufferTexel(const InstanceShading& sh, const raster::Fragment& f, float t, const glm::vec3& eye,
+                          float pixelAngle) {
   GBufferTexel g;
   g.position = glm::vec3(f.varyings[0], f.varyings[1], f.varyings[2]);
   glm::vec3 n(f.varyings[3], f.varyings[4], f.varyings[5]);
@@ -69,6 +95,8 @@ GBufferTexel gbufferTexel(const InstanceShading& sh, const raster::Fragment& f, 
   const glm::vec3 toEye = eye - g.position;
   if (glm::dot(n, toEye) < 0.0f) n = -n;  // two-sided: the normal faces the viewer
   g.normal = n;
+  g.geometricNormal = faceNormal(sh, f.primitive, t, g.position, eye, n);
+  g.instance = sh.instance;
   glm::vec4 base = sh.mat->baseColorFactor;
   if (sh.tex) {
     float lod = 0.0f;
@@ -121,7 +149,7 @@ void drawGBuffer(raster::Rasterizer& raster, const Scene& scene, const FramePlan
           return mvp * glm::vec4(mesh.positions[i], 1.0f);
         },
         [&](const raster::Fragment& f) {
-          frame.gbuffer.at(f.x, f.y) = gbufferTexel(sh, f, plan.camera.eye, plan.pixelAngle);
+          frame.gbuffer.at(f.x, f.y) = gbufferTexel(sh, f, shadeTime, plan.camera.eye, plan.pixelAngle);
         });
     ++st.instancesOrdinary;
     st.trianglesOrdinary += mesh.indices.size() / 3;

@@ -27,6 +27,8 @@ inline constexpr int kGbufferVaryings = 8;  // world position, world normal, uv
 
 // What the G-buffer needs of one instance, with transforms t0 at shutter open and t1 at close.
 struct InstanceShading {
+  const Mesh* mesh = nullptr;
+  int32_t instance = -1;  // index in scene.instances
   const Material* mat = nullptr;
   const Texture* tex = nullptr;
   int32_t material = -1;  // the G-buffer's material index
@@ -41,8 +43,15 @@ InstanceShading prepareInstance(const Scene& scene, const Instance& inst, const 
 // lines (a static instance gives the shutter-open values bit for bit).
 void vertexVaryings(const Mesh& mesh, const InstanceShading& sh, uint32_t i, float t, float* v);
 
-// One G-buffer texel from a fragment (the ordinary pass and the stochastic layers alike).
-GBufferTexel gbufferTexel(const InstanceShading& sh, const raster::Fragment& f, const glm::vec3& eye, float pixelAngle);
+// One G-buffer texel from a fragment of the mesh's triangle f.primitive at shutter time t (the
+// ordinary pass and the stochastic layers alike).
+GBufferTexel gbufferTexel(const InstanceShading& sh, const raster::Fragment& f, float t, const glm::vec3& eye,
+                          float pixelAngle);
+
+// The unit face normal of the mesh's triangle `primitive` at shutter time t in world space, turned
+// to face `towards` (from a point on it); the shading normal `fallback` for a degenerate triangle.
+glm::vec3 faceNormal(const InstanceShading& sh, uint32_t primitive, float t, const glm::vec3& pointOn,
+                     const glm::vec3& towards, const glm::vec3& fallback);
 
 // The material of a G-buffer texel's index (InstanceShading::material): the scene's, or the default
 // material for the index one past the scene's list.

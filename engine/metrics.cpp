@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -50,32 +52,68 @@ raster::Rgba8 diverging(float t) {
 }  // namespace
 
 VisibilityError compareVisibility(const raster::ImageFloat& v, const raster::ImageFloat& reference,
-                                  const raster::Image<uint8_t>& mask) {
+                                  const raster::Image<uint8_t>& mask, uint8_t select) {
   requireSameSize(v, reference, "compareVisibility");
   requireSameSize(v, mask, "compareVisibility (mask)");
   VisibilityError out;
-  double sumSq = 0;
+  double sumSq = 0, sum = 0;
   size_t over = 0;
   for (int y = 0; y < v.height(); ++y) {
     const float* vr = v.row(y);
     const float* rr = reference.row(y);
     const uint8_t* mr = mask.row(y);
-    double rowSq = 0;
+    double rowSq = 0, rowSum = 0;
     for (int x = 0; x < v.width(); ++x) {
-      if (mr[x] == 0) continue;
+      if ((mr[x] & select) == 0) continue;
       const double e = absError(vr[x], rr[x]);
+      const double signedE = static_cast<double>(vr[x]) - static_cast<double>(rr[x]);
+      rowSum += std::isfinite(signedE) ? signedE : 1.0;
       rowSq += e * e;
       out.maxErr = std::max(out.maxErr, e);
       if (e > 0.05) ++over;
       ++out.pixels;
     }
     sumSq += rowSq;
+    sum += rowSum;
   }
   if (out.pixels > 0) {
     const auto n = static_cast<double>(out.pixels);
     out.rmse = std::sqrt(sumSq / n);
+    out.bias = sum / n;
     out.fracOver005 = static_cast<double>(over) / n;
   }
+  return out;
+}
+
+raster::Image<uint8_t> receiverClasses(const Scene& scene, const Frame& frame, const shadows::RectLight& light) {
+  const raster::Image<GBufferTexel>& g = frame.gbuffer;
+  const int w = g.width(), h = g.height();
+  raster::Image<uint8_t> out(w, h, 0);
+  const std::vector<char> flat = scene.flatInstances();
+  const Camera& cam = frame.stats.camera;
+  const float perDistance =
+      2.0f * std::tan(0.5f * cam.fovYDegrees * std::numbers::pi_v<float> / 180.0f) / static_cast<float>(std::max(h, 1));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const GBufferTexel& t = g.at(x, y);
+      if (t.material < 0 || !(shadows::horizonFraction(light, t.position, t.geometricNormal) > 0.0f)) continue;
+      const bool ground = t.instance >= 0 && static_cast<size_t>(t.instance) < flat.size() &&
+                          flat[static_cast<size_t>(t.instance)] != 0;
+      uint8_t c = ground ? kGroundReceiver : kObjectReceiver;
+      const float reach = static_cast<float>(kContactPixels) * glm::length(t.position - cam.eye) * perDistance;
+      for (int dy = -kContactPixels; dy <= kContactPixels && !(c & kContactReceiver); ++dy)
+        for (int dx = -kContactPixels; dx <= kContactPixels; ++dx) {
+          const int qx = x + dx, qy = y + dy;
+          if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+          const GBufferTexel& q = g.at(qx, qy);
+          if (q.material < 0 || q.instance == t.instance) continue;
+          if (glm::length(q.position - t.position) < reach) {
+            c |= kContactReceiver;
+            break;
+          }
+        }
+      out.at(x, y) = c;
+    }
   return out;
 }
 

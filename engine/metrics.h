@@ -19,21 +19,38 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "engine/frame.h"
+#include "engine/scene.h"
 #include "raster/image.h"
+#include "shadows/area_light.h"
 
 namespace penumbra::engine {
 
 struct VisibilityError {
   double rmse = 0;         // sqrt(mean(e^2)) over the masked pixels
+  double bias = 0;         // mean(e), signed: > 0 too bright (a non-finite e counts as +1)
   double maxErr = 0;       // max |e|
   double fracOver005 = 0;  // fraction of masked pixels with |e| > 0.05, in [0, 1]
   size_t pixels = 0;       // masked pixels compared; all fields are 0 when there are none
 };
 
-// Compares v with reference where mask != 0. Throws std::invalid_argument when the three images do
-// not have the same size.
+// Compares v with reference where (mask & select) != 0. Throws std::invalid_argument when the
+// three images do not have the same size.
 VisibilityError compareVisibility(const raster::ImageFloat& v, const raster::ImageFloat& reference,
-                                  const raster::Image<uint8_t>& mask);
+                                  const raster::Image<uint8_t>& mask, uint8_t select = 0xff);
+
+// Receiver classes, to report errors where techniques fail differently (`bench shadows`): bits of
+// a mask per G-buffer pixel, 0 where nothing is compared (background, or no part of the light above
+// the receiver's geometric tangent plane: V = 0 for every technique alike).
+//   kGroundReceiver   on a flat instance (Scene::flatInstances: a ground, a wall, a card)
+//   kObjectReceiver   on any other instance (the objects' own surfaces)
+//   kContactReceiver  either, and within kContactPixels pixels on screen of a receiver of another
+//                     instance that is closer in the world than kContactPixels pixel footprints
+//                     (|eye - x| * 2 tan(fovY / 2) / height each): where an object meets the
+//                     ground or another object, as far as the camera sees it.
+inline constexpr uint8_t kGroundReceiver = 1, kObjectReceiver = 2, kContactReceiver = 4;
+inline constexpr int kContactPixels = 4;
+raster::Image<uint8_t> receiverClasses(const Scene& scene, const Frame& frame, const shadows::RectLight& light);
 
 // Root mean square difference of the R, G and B channels over all pixels (alpha ignored), each
 // channel divided by 255: the difference of the sRGB-encoded images as displayed, in [0, 1].

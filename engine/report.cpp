@@ -85,6 +85,7 @@ std::string fmtErr(double e) {
   if (!std::isfinite(e)) return number(e);
   return printf1(e != 0 && std::fabs(e) < 1e-4 ? "%.1e" : "%.4f", e);
 }
+std::string fmtBias(double e) { return std::isfinite(e) ? printf1("%+.4f", e) : number(e); }
 std::string fmtPercent(double f) { return std::isfinite(f) ? printf1("%.2f%%", 100 * f) : number(f); }
 
 std::vector<bool> paretoFront(const std::vector<std::pair<double, double>>& pts) {

@@ -36,6 +36,8 @@ std::string jsonFile(const Json& j);
 std::string fmtMs(double ms);
 std::string fmtErr(double e);
 std::string fmtPercent(double f);
+// A signed error with its sign always shown ("+0.0123", "-0.0040").
+std::string fmtBias(double e);
 
 // Per point (x, y), both smaller-is-better: true when no other point is at least as good in both
 // and strictly better in one (equal points are optimal together). A non-finite point is never

@@ -57,18 +57,24 @@ bool Scene::worldBounds(glm::vec3& lo, glm::vec3& hi) const {
   return any;
 }
 
-bool Scene::objectBounds(glm::vec3& lo, glm::vec3& hi) const {
-  // Flat instances (thinner than 1e-3 of their extent): candidates for a ground or a backdrop.
+std::vector<char> Scene::flatInstances() const {
   std::vector<char> flat(instances.size(), 0);
-  std::vector<glm::vec3> los(instances.size()), his(instances.size());
-  std::vector<char> has(instances.size(), 0);
   for (size_t i = 0; i < instances.size(); ++i) {
-    has[i] = instanceBox(*this, instances[i], los[i], his[i]) ? 1 : 0;
-    if (!has[i]) continue;
-    const glm::vec3 e = his[i] - los[i];
+    glm::vec3 lo, hi;
+    if (!instanceBox(*this, instances[i], lo, hi)) continue;
+    const glm::vec3 e = hi - lo;
     const float big = std::max({e.x, e.y, e.z}), small = std::min({e.x, e.y, e.z});
     flat[i] = small <= 1e-3f * big ? 1 : 0;
   }
+  return flat;
+}
+
+bool Scene::objectBounds(glm::vec3& lo, glm::vec3& hi) const {
+  // Flat instances: candidates for a ground or a backdrop.
+  const std::vector<char> flat = flatInstances();
+  std::vector<glm::vec3> los(instances.size()), his(instances.size());
+  std::vector<char> has(instances.size(), 0);
+  for (size_t i = 0; i < instances.size(); ++i) has[i] = instanceBox(*this, instances[i], los[i], his[i]) ? 1 : 0;
   glm::vec3 olo(std::numeric_limits<float>::max()), ohi = -olo;
   bool objects = false;
   for (size_t i = 0; i < instances.size(); ++i)

@@ -131,6 +131,9 @@ struct Scene {
   // more than twice the size of the rest; all instances when every one is flat. What a fitted
   // camera frames and a default light is placed by.
   bool objectBounds(glm::vec3& lo, glm::vec3& hi) const;
+  // Per instance, 1 when it is flat: its world bounding box thinner than 1e-3 of its largest
+  // extent (a ground, a wall, a card); 0 otherwise and for an instance without geometry.
+  std::vector<char> flatInstances() const;
 };
 
 // Bounds and normals computed, references checked (mesh, material and texture indices, index

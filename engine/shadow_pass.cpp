@@ -82,7 +82,7 @@ shadows::ReceiverImage stackReceivers(raster::Rasterizer& raster, const Frame& f
         for (int x = 0; x < w; ++x) {
           if (layerReceivers.empty()) {
             const GBufferTexel& g = frame.gbuffer.at(x, y);
-            rec.at(x, y) = {g.position, g.normal, g.material >= 0 ? 1u : 0u};
+            rec.at(x, y) = {g.position, g.geometricNormal, g.material >= 0 ? 1u : 0u};
             continue;
           }
           const int n = frame.resolved.at(x, y).layers;

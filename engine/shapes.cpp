@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cassert>
+#include <bit>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <numbers>
+#include <unordered_map>
 #include <utility>
 
 namespace penumbra::engine {
@@ -190,6 +192,115 @@ Mesh makeTorus(float majorRadius, float minorRadius, int rings, int segments) {
       addTriangle(m, c, d, b);
     }
   return finish(std::move(m), "torus");
+}
+
+Mesh makeRadialSurface(int div, float (*radius)(glm::vec3 direction)) {
+  assert(div >= 1);
+  div = std::max(div, 1);
+  Mesh m;
+  const int n = div + 1;
+  // Equal-angle coordinate k of n on a cube face: exactly -1 and 1 at the ends, so the faces'
+  // shared edges compute the same points.
+  std::vector<float> coord(static_cast<size_t>(n));
+  for (int k = 0; k < n; ++k)
+    coord[static_cast<size_t>(k)] =
+        k == 0 ? -1.0f : k == div ? 1.0f
+                                  : static_cast<float>(std::tan(std::numbers::pi / 4.0 * (-1.0 + 2.0 * k / div)));
+  for (int axis = 0; axis < 3; ++axis)
+    for (const float side : {-1.0f, 1.0f}) {
+      const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+      const int first = static_cast<int>(m.positions.size());
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          glm::vec3 c(0.0f);
+          c[axis] = side;
+          c[a] = coord[static_cast<size_t>(i)];
+          c[b] = coord[static_cast<size_t>(j)];
+          const glm::vec3 d = glm::normalize(c);
+          addVertex(m, d * radius(d), d, {toUnit(i, div), toUnit(j, div)});
+        }
+      // (+a, +b) is counter-clockwise seen from outside when cross(e_a, e_b) = e_axis points out.
+      const bool ccw = side > 0.0f;
+      for (int j = 0; j < div; ++j)
+        for (int i = 0; i < div; ++i) {
+          const int v00 = first + j * n + i, v10 = v00 + 1, v01 = v00 + n, v11 = v01 + 1;
+          if (ccw) {
+            addTriangle(m, v00, v10, v11);
+            addTriangle(m, v00, v11, v01);
+          } else {
+            addTriangle(m, v00, v11, v10);
+            addTriangle(m, v00, v01, v11);
+          }
+        }
+    }
+  computeWeldedNormals(m);
+  return finish(std::move(m), "radial surface");
+}
+
+Mesh makeTorusKnot(int p, int q, float majorRadius, float minorRadius, float tube, int segments, int sides) {
+  assert(majorRadius > minorRadius && minorRadius > 0.0f && tube > 0.0f && segments >= 3 && sides >= 3);
+  segments = std::max(segments, 3);
+  sides = std::max(sides, 3);
+  Mesh m;
+  const double R = majorRadius, r = minorRadius;
+  for (int i = 0; i < segments; ++i) {
+    const double t = kTwoPi * i / segments;
+    const double ring = R + r * std::cos(q * t);
+    const glm::dvec3 c(ring * std::cos(p * t), r * std::sin(q * t), ring * std::sin(p * t));
+    const glm::dvec3 dc(-r * q * std::sin(q * t) * std::cos(p * t) - ring * p * std::sin(p * t), r * q * std::cos(q * t),
+                        -r * q * std::sin(q * t) * std::sin(p * t) + ring * p * std::cos(p * t));
+    const glm::dvec3 tan = glm::normalize(dc);
+    const glm::dvec3 nrm = glm::normalize(glm::dvec3(0, 1, 0) - tan.y * tan);
+    const glm::dvec3 bin = glm::cross(tan, nrm);
+    for (int j = 0; j < sides; ++j) {
+      const double phi = kTwoPi * j / sides;
+      const glm::dvec3 out = std::cos(phi) * nrm + std::sin(phi) * bin;
+      addVertex(m, glm::vec3(c + static_cast<double>(tube) * out), glm::vec3(out), {toUnit(i, segments), toUnit(j, sides)});
+    }
+  }
+  // Around the tube (+j, from nrm towards bin = tan x nrm) then along the curve (+i) is
+  // counter-clockwise seen from outside: cross(bin, tan) = nrm points out.
+  for (int i = 0; i < segments; ++i)
+    for (int j = 0; j < sides; ++j) {
+      const int a = i * sides + j, b = i * sides + (j + 1) % sides, c = ((i + 1) % segments) * sides + j,
+                d = ((i + 1) % segments) * sides + (j + 1) % sides;
+      addTriangle(m, a, b, c);
+      addTriangle(m, c, b, d);
+    }
+  return finish(std::move(m), "torus knot");
+}
+
+void computeWeldedNormals(Mesh& mesh) {
+  struct Key {
+    uint32_t x, y, z;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      return (static_cast<size_t>(k.x) * 0x9e3779b97f4a7c15ULL) ^ (static_cast<size_t>(k.y) * 0xbf58476d1ce4e5b9ULL) ^
+             (static_cast<size_t>(k.z) * 0x94d049bb133111ebULL);
+    }
+  };
+  const auto bits = [](float v) { return std::bit_cast<uint32_t>(v == 0.0f ? 0.0f : v); };  // -0 welds to +0
+  std::unordered_map<Key, uint32_t, KeyHash> first;
+  std::vector<uint32_t> weld(mesh.positions.size());
+  for (size_t i = 0; i < mesh.positions.size(); ++i) {
+    const glm::vec3 p = mesh.positions[i];
+    weld[i] = first.try_emplace(Key{bits(p.x), bits(p.y), bits(p.z)}, static_cast<uint32_t>(i)).first->second;
+  }
+  std::vector<glm::dvec3> acc(mesh.positions.size(), glm::dvec3(0.0));
+  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+    const glm::dvec3 pa(mesh.positions[a]), pb(mesh.positions[b]), pc(mesh.positions[c]);
+    const glm::dvec3 n = glm::cross(pb - pa, pc - pa);  // length = twice the area
+    acc[weld[a]] += n, acc[weld[b]] += n, acc[weld[c]] += n;
+  }
+  mesh.normals.resize(mesh.positions.size());
+  for (size_t i = 0; i < mesh.positions.size(); ++i) {
+    const glm::dvec3 n = acc[weld[i]];
+    const double len = glm::length(n);
+    mesh.normals[i] = len > 0.0 ? glm::vec3(n / len) : glm::vec3(0.0f, 1.0f, 0.0f);
+  }
 }
 
 }  // namespace penumbra::engine

@@ -40,6 +40,23 @@ Mesh makeCylinder(float radius, float height, int segments);
 // y = 0 plane; `rings` steps around the major circle, `segments` around the tube.
 Mesh makeTorus(float majorRadius, float minorRadius, int rings, int segments);
 
+// A closed star-shaped surface about the origin: a cube's six faces, div x div quads each, mapped
+// to the unit sphere with equal angles (cells of nearly equal size) and every direction d scaled
+// by radius(d) (> 0). Fine, evenly tessellated curved meshes with concavities and protrusions
+// (the shadow benches' creatures and folded blobs). Seam vertices of neighbouring faces are
+// bit-identical; normals are area-weighted over the welded positions (no shading seams).
+Mesh makeRadialSurface(int div, float (*radius)(glm::vec3 direction));
+
+// A (p, q) torus knot tube: the curve ((R + r cos qt) cos pt, r sin qt, (R + r cos qt) sin pt),
+// t in [0, 2 pi), around y; a tube of radius `tube` swept along it (`segments` steps along the
+// curve, `sides` around the tube; the frame's normal is y projected off the tangent, which the
+// curve never meets for R - r > 0). Closed and watertight (indices wrap). p, q coprime; tube small
+// enough that the strands do not meet.
+Mesh makeTorusKnot(int p, int q, float majorRadius, float minorRadius, float tube, int segments, int sides);
+
+// Area-weighted vertex normals where vertices with bit-identical positions share one normal.
+void computeWeldedNormals(Mesh& mesh);
+
 // The triangle counts of the shapes above, without building them (caps are checked first).
 inline size_t planeTriangles(int div) { return 2 * static_cast<size_t>(div) * static_cast<size_t>(div); }
 inline size_t sphereTriangles(int rings, int segments) {
@@ -47,5 +64,6 @@ inline size_t sphereTriangles(int rings, int segments) {
 }
 inline size_t cylinderTriangles(int segments) { return 4 * static_cast<size_t>(segments); }
 inline size_t torusTriangles(int rings, int segments) { return 2 * static_cast<size_t>(rings) * static_cast<size_t>(segments); }
+inline size_t radialSurfaceTriangles(int div) { return 12 * static_cast<size_t>(div) * static_cast<size_t>(div); }
 
 }  // namespace penumbra::engine

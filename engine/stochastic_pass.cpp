@@ -61,7 +61,7 @@ class LayerBuilder {
                                          geo_.triStart.begin() - 1);
     const InstanceShading& sh = geo_.shading[k];
     const Mesh& mesh = scene_.meshes[static_cast<size_t>(scene_.instances[geo_.instances[k]].mesh)];
-    glm::vec3 sumP(0.0f), sumN(0.0f), sumA(0.0f);
+    glm::vec3 sumP(0.0f), sumN(0.0f), sumG(0.0f), sumA(0.0f);
     GBufferTexel first;
     bool same = true;
     int n = 0;
@@ -73,11 +73,11 @@ class LayerBuilder {
       float out[raster::kMaxVaryings + 3];
       if (!fragment(mesh, sh, tri, prim, samples[s], x, y, f, out)) continue;
       f.primitive = prim;
-      const GBufferTexel t = gbufferTexel(sh, f, plan_.camera.eye, plan_.pixelAngle);
+      const GBufferTexel t = gbufferTexel(sh, f, samples[s].t, plan_.camera.eye, plan_.pixelAngle);
       if (s == L.sample) rcv = receiver(mesh, sh, f, t);
       if (n == 0) first = t;
       same &= t.position == first.position && t.normal == first.normal && t.albedo == first.albedo;
-      sumP += t.position, sumN += t.normal, sumA += t.albedo;
+      sumP += t.position, sumN += t.normal, sumG += t.geometricNormal, sumA += t.albedo;
       ++n;
     }
     if (n == 0) {  // cannot happen (the resolve found these samples covered): blend as background
@@ -86,15 +86,17 @@ class LayerBuilder {
     }
     if (same && !sh.moves) {
       g = first;
-      rcv = {g.position, g.normal, 1u};
+      rcv = {g.position, g.geometricNormal, 1u};
       return;
     }
     const float inv = 1.0f / static_cast<float>(n);
     g.position = sumP * inv;
-    const float ln = glm::length(sumN);
+    const float ln = glm::length(sumN), lg = glm::length(sumG);
     g.normal = ln > 0.0f ? sumN / ln : first.normal;
+    g.geometricNormal = lg > 0.0f ? sumG / lg : first.geometricNormal;
     g.albedo = sumA * inv;
     g.material = first.material;
+    g.instance = first.instance;
   }
 
  private:
@@ -119,19 +121,17 @@ class LayerBuilder {
   // barycentric point at the casters' time.
   shadows::Receiver receiver(const Mesh& mesh, const InstanceShading& sh, const raster::Fragment& f,
                              const GBufferTexel& t) const {
-    if (!sh.moves) return {t.position, t.normal, 1u};
-    glm::vec3 rp(0.0f), rn(0.0f);
+    if (!sh.moves) return {t.position, t.geometricNormal, 1u};
+    glm::vec3 rp(0.0f);
     const float b[3] = {f.b0, f.b1, f.b2};
     for (int j = 0; j < 3; ++j) {
       float v[kGbufferVaryings];
       vertexVaryings(mesh, sh, mesh.indices[static_cast<size_t>(f.primitive) * 3 + static_cast<size_t>(j)],
                      plan_.casterTime, v);
       rp += glm::vec3(v[0], v[1], v[2]) * b[j];
-      rn += glm::vec3(v[3], v[4], v[5]) * b[j];
     }
-    const float len = glm::length(rn);
-    rn = len > 0.0f ? rn / len : t.normal;
-    if (glm::dot(rn, t.normal) < 0.0f) rn = -rn;
+    // The face at the casters' time, on the side the layer's sample saw.
+    glm::vec3 rn = faceNormal(sh, f.primitive, plan_.casterTime, rp, rp + t.geometricNormal, t.geometricNormal);
     return {rp, rn, 1u};
   }
 
@@ -176,7 +176,7 @@ void runStochasticPass(raster::Rasterizer& raster, const Scene& scene, const Fra
       shadows::Receiver& rcv = layerReceivers[static_cast<size_t>(l)].at(x, y);
       if (L.surface == stochastic::kStaticSurface) {
         g = frame.gbuffer.at(x, y);
-        rcv = {g.position, g.normal, g.material >= 0 ? 1u : 0u};
+        rcv = {g.position, g.geometricNormal, g.material >= 0 ? 1u : 0u};
         continue;
       }
       builder.build(x, y, L, ref, samples, g, rcv);

@@ -29,7 +29,7 @@ class Evsm final : public Technique {
     const auto t0 = Clock::now();
     const double cPos = static_cast<double>(map_.warp.cPos), cNeg = static_cast<double>(map_.warp.cNeg);
     forEachReceiver(ctx, visibility, [&](int, int, const Receiver& r) {
-      const glm::vec3 v = map_.view.toView(r.position);
+      const glm::vec3 v = lookupPoint(map_.view, r, bias_);
       const MomentSample s = map_.sample(map_.view.toMap(v));
       const double z = receiverDepth(map_, v, r.normal, bias_);
       // Positive warp: t = exp(c+ z), minimum variance scaled by (dw/dz)^2 = (c+ t)^2.

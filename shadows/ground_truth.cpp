@@ -20,16 +20,16 @@ namespace penumbra::shadows {
 
 namespace {
 
-// Bumped whenever the image for given inputs could change (sampling, ray offsets): it is part of
-// the key, so older cache entries are never read.
-constexpr uint32_t kFormatVersion = 1;
+// Bumped whenever the image for given inputs could change (sampling, ray offsets, the definition
+// of V): it is part of the key, so older cache entries are never read.
+constexpr uint32_t kFormatVersion = 2;
 constexpr int kMaxSamples = 65536;
 
 // Rays end this far short of the light (in units of the origin-to-light-point segment).
 constexpr float kTFar = 1.0f - 1e-4f;
-// eps = kEpsDistance * |x - light.center| + kEpsUlps * max_i |x_i|; kEpsUlps is about 32 float ulps
+// eps = kEpsScene * D + kEpsUlps * max_i |x_i| (ground_truth.h); kEpsUlps is about 32 float ulps
 // (an ulp of v is at most 2^-23 |v| = 1.19e-7 |v|).
-constexpr float kEpsDistance = 1e-4f;
+constexpr float kEpsScene = 2e-6f;
 constexpr float kEpsUlps = 4e-6f;
 
 // ---- Embree errors ------------------------------------------------------------------------------
@@ -108,30 +108,32 @@ class Hasher {
 
 // ---- Sampling -----------------------------------------------------------------------------------
 
-// Light uv of sample `sample` of the grid for pixel (px, py): cell (sample % columns,
-// sample / columns), jittered by hash3(px, py, 2 * sample + dimension).
+// Light uv of sample `sample` of the grid for pixel (px, py): cell i of row j (sampleGrid),
+// jittered by hash3(px, py, 2 * sample + dimension).
 glm::vec2 samplePoint(uint32_t px, uint32_t py, int sample, SampleGrid g) {
-  const int i = sample % g.columns, j = sample / g.columns;
+  const int longCells = g.longRows() * (g.base() + 1);
+  const int j = sample < longCells ? sample / (g.base() + 1) : g.longRows() + (sample - longCells) / g.base();
+  const int n = g.cellsIn(j), start = g.rowStart(j), i = sample - start;
   const uint32_t d = 2u * static_cast<uint32_t>(sample);
-  return {(static_cast<float>(i) + unitFloat(hash3(px, py, d))) / static_cast<float>(g.columns),
-          (static_cast<float>(j) + unitFloat(hash3(px, py, d + 1u))) / static_cast<float>(g.rows)};
+  return {(static_cast<float>(i) + unitFloat(hash3(px, py, d))) / static_cast<float>(n),
+          (static_cast<float>(start) + static_cast<float>(n) * unitFloat(hash3(px, py, d + 1u))) /
+              static_cast<float>(g.samples)};
 }
 
-// One receiver's rays (see the header: origin offset to the side the ray leaves towards).
+// One receiver's rays (ground_truth.h): from x + eps n.
 struct ReceiverRays {
-  glm::vec3 x, n;
-  float eps;
+  glm::vec3 x, n, org;
 
-  ReceiverRays(const Receiver& r, const RectLight& light) : x(r.position), n(r.normal) {
+  ReceiverRays(const Receiver& r, float sceneEps) : x(r.position), n(r.normal) {
     const float big = std::max({std::fabs(x.x), std::fabs(x.y), std::fabs(x.z)});
-    eps = kEpsDistance * glm::length(x - light.center) + kEpsUlps * big;
+    org = x + (sceneEps + kEpsUlps * big) * n;
   }
-  // The ray towards light point y: origin, direction (origin -> y is t in [0, 1]), tnear.
-  void make(glm::vec3 y, glm::vec3& org, glm::vec3& dir, float& tnear) const {
-    const float side = glm::dot(n, y - x) >= 0.0f ? eps : -eps;
-    org = x + side * n;
+  // Whether light point y is above the tangent plane, and if so the ray towards it: direction
+  // (origin -> y is t in [0, 1]).
+  bool make(glm::vec3 y, glm::vec3& dir) const {
+    if (!(glm::dot(n, y - x) > 0.0f)) return false;
     dir = y - org;
-    tnear = eps / glm::length(dir);
+    return true;
   }
 };
 
@@ -160,7 +162,8 @@ struct PacketCall<16> {
   }
 };
 
-// Unoccluded rays of one receiver, N rays per Embree call.
+// Unoccluded rays of one receiver, N rays per Embree call (the samples above its tangent plane,
+// packed in order).
 template <int N>
 int litPacket(RTCScene scene, const ReceiverRays& rr, const RectLight& light, uint32_t px, uint32_t py,
               SampleGrid grid) {
@@ -170,22 +173,14 @@ int litPacket(RTCScene scene, const ReceiverRays& rr, const RectLight& light, ui
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // one origin, directions within the light's cone
-  const int count = grid.count();
-  int lit = 0;
-  for (int base = 0; base < count; base += N) {
-    const int lanes = std::min(N, count - base);
-    for (int l = 0; l < N; ++l) {
-      valid[l] = l < lanes ? -1 : 0;
-      glm::vec3 org(0.0f), dir(0.0f, 0.0f, 1.0f);
-      float tnear = 0.0f;
-      if (l < lanes) rr.make(light.point(samplePoint(px, py, base + l, grid)), org, dir, tnear);
-      ray.org_x[l] = org.x;
-      ray.org_y[l] = org.y;
-      ray.org_z[l] = org.z;
-      ray.dir_x[l] = dir.x;
-      ray.dir_y[l] = dir.y;
-      ray.dir_z[l] = dir.z;
-      ray.tnear[l] = tnear;
+  int lit = 0, lanes = 0;
+  const auto flush = [&] {
+    for (int l = lanes; l < N; ++l) {  // unused lanes: a valid ray, masked off
+      valid[l] = 0;
+      ray.org_x[l] = ray.org_y[l] = ray.org_z[l] = 0.0f;
+      ray.dir_x[l] = ray.dir_y[l] = 0.0f;
+      ray.dir_z[l] = 1.0f;
+      ray.tnear[l] = 0.0f;
       ray.tfar[l] = kTFar;
       ray.time[l] = 0.0f;
       ray.mask[l] = ~0u;
@@ -194,7 +189,28 @@ int litPacket(RTCScene scene, const ReceiverRays& rr, const RectLight& light, ui
     }
     Call::occluded(valid, scene, &ctx, &ray);
     for (int l = 0; l < lanes; ++l) lit += ray.tfar[l] >= 0.0f ? 1 : 0;  // occluded: tfar = -inf
+    lanes = 0;
+  };
+  for (int s = 0; s < grid.count(); ++s) {
+    glm::vec3 dir;
+    if (!rr.make(light.point(samplePoint(px, py, s, grid)), dir)) continue;
+    const int l = lanes++;
+    valid[l] = -1;
+    ray.org_x[l] = rr.org.x;
+    ray.org_y[l] = rr.org.y;
+    ray.org_z[l] = rr.org.z;
+    ray.dir_x[l] = dir.x;
+    ray.dir_y[l] = dir.y;
+    ray.dir_z[l] = dir.z;
+    ray.tnear[l] = 0.0f;
+    ray.tfar[l] = kTFar;
+    ray.time[l] = 0.0f;
+    ray.mask[l] = ~0u;
+    ray.id[l] = 0;
+    ray.flags[l] = 0;
+    if (lanes == N) flush();
   }
+  if (lanes > 0) flush();
   return lit;
 }
 
@@ -204,13 +220,12 @@ int litSingle(RTCScene scene, const ReceiverRays& rr, const RectLight& light, ui
   rtcInitIntersectContext(&ctx);
   int lit = 0;
   for (int s = 0; s < grid.count(); ++s) {
-    glm::vec3 org, dir;
-    float tnear;
-    rr.make(light.point(samplePoint(px, py, s, grid)), org, dir, tnear);
-    RTCRay ray{.org_x = org.x,
-               .org_y = org.y,
-               .org_z = org.z,
-               .tnear = tnear,
+    glm::vec3 dir;
+    if (!rr.make(light.point(samplePoint(px, py, s, grid)), dir)) continue;
+    RTCRay ray{.org_x = rr.org.x,
+               .org_y = rr.org.y,
+               .org_z = rr.org.z,
+               .tnear = 0.0f,
                .dir_x = dir.x,
                .dir_y = dir.y,
                .dir_z = dir.z,
@@ -225,6 +240,26 @@ int litSingle(RTCScene scene, const ReceiverRays& rr, const RectLight& light, ui
   return lit;
 }
 
+// The scene's scale term of the ray offset: kEpsScene times the diagonal of the bounding box of
+// the light's corners and the valid receivers in front of it.
+float sceneEps(const ReceiverImage& receivers, const RectLight& light) {
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (float s : {0.0f, 1.0f})
+    for (float t : {0.0f, 1.0f}) {
+      const glm::vec3 p = light.point({s, t});
+      lo = glm::min(lo, p), hi = glm::max(hi, p);
+    }
+  const glm::vec3 c = light.center, ln = light.normal();
+  for (int y = 0; y < receivers.height(); ++y)
+    for (int x = 0; x < receivers.width(); ++x) {
+      const Receiver& r = receivers.at(x, y);
+      if (!r.valid || !(glm::dot(r.position - c, ln) > 0.0f)) continue;
+      if (!std::isfinite(r.position.x + r.position.y + r.position.z)) continue;
+      lo = glm::min(lo, r.position), hi = glm::max(hi, r.position);
+    }
+  return kEpsScene * glm::length(hi - lo);
+}
+
 }  // namespace
 
 // ---- Grid ---------------------------------------------------------------------------------------
@@ -233,11 +268,11 @@ SampleGrid sampleGrid(const RectLight& light, int samples) {
   if (samples < 1 || samples > kMaxSamples)
     throw std::invalid_argument("ground truth: samples must be in [1, 65536], not " +
                                 std::to_string(samples));
-  const double aspect = static_cast<double>(light.width) / static_cast<double>(light.height);
-  const double c = std::round(std::sqrt(static_cast<double>(samples) * aspect));
+  const double aspect = static_cast<double>(light.height) / static_cast<double>(light.width);
+  const double r = std::round(std::sqrt(static_cast<double>(samples) * aspect));
   SampleGrid g;
-  g.columns = std::isfinite(c) ? static_cast<int>(std::clamp(c, 1.0, static_cast<double>(samples))) : samples;
-  g.rows = (samples + g.columns - 1) / g.columns;
+  g.samples = samples;
+  g.rows = std::isfinite(r) ? static_cast<int>(std::clamp(r, 1.0, static_cast<double>(samples))) : 1;
   return g;
 }
 
@@ -341,6 +376,7 @@ uint64_t traceVisibility(const RayScene& scene, const ReceiverImage& receivers, 
   out.resize(w, h);
   const glm::vec3 c = light.center, ln = light.normal();
   const int width = force1 ? 1 : scene.packetWidth();
+  const float eps = sceneEps(receivers, light);
   std::vector<uint64_t> rowRays(static_cast<size_t>(h), 0);
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y) {
@@ -350,7 +386,7 @@ uint64_t traceVisibility(const RayScene& scene, const ReceiverImage& receivers, 
         if (r.valid) {
           v = 0.0f;
           if (glm::dot(r.position - c, ln) > 0.0f) {
-            const ReceiverRays rr(r, light);
+            const ReceiverRays rr(r, eps);
             const auto px = static_cast<uint32_t>(x), py = static_cast<uint32_t>(y);
             int lit = 0;
             switch (width) {
@@ -418,8 +454,12 @@ uint64_t groundTruthKey(const Geometry& casters, const ReceiverImage& receivers,
 std::string GroundTruthStats::summary() const {
   char buf[320];
   std::string line;
-  std::snprintf(buf, sizeof buf, "reference: %dx%d = %d rays per receiver", grid.columns, grid.rows,
-                grid.count());
+  if (grid.longRows() == 0)
+    std::snprintf(buf, sizeof buf, "reference: %d samples per receiver (%d rows of %d)", grid.count(), grid.rows,
+                  grid.base());
+  else
+    std::snprintf(buf, sizeof buf, "reference: %d samples per receiver (%d rows of %d or %d)", grid.count(),
+                  grid.rows, grid.base(), grid.base() + 1);
   line = buf;
   if (cacheHit) {
     line += "; cache hit " + cacheEntry + ", nothing traced";
@@ -427,7 +467,8 @@ std::string GroundTruthStats::summary() const {
   }
   const double mrays = msTrace > 0 ? static_cast<double>(rays) / (msTrace * 1e3) : 0.0;
   std::snprintf(buf, sizeof buf,
-                ", %llu receivers, %llu rays against %zu triangles (packets of %d) in %.1f ms: %.2f Mrays/s",
+                ", %llu receivers, %llu light samples (rays where above the receiver's plane) against %zu "
+                "triangles (packets of %d) in %.1f ms: %.2f Msamples/s",
                 static_cast<unsigned long long>(receivers), static_cast<unsigned long long>(rays), triangles,
                 packetWidth, msTrace, mrays);
   line += buf;
@@ -508,10 +549,6 @@ class Reference final : public Technique {
       job_.prepare(ctx.casterGeometry(), *ctx.in.receivers, ctx.in.light, samples, ctx.in.cache);
     });
     ctx.times.msMaps += msSince(t0);
-    if (job_.stats.grid.count() != samples)
-      ctx.notes.push_back("reference: samples=" + std::to_string(samples) + " rounded up to a " +
-                          std::to_string(job_.stats.grid.columns) + "x" +
-                          std::to_string(job_.stats.grid.rows) + " grid on the light");
   }
   void evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) override {
     const auto t0 = Clock::now();
@@ -545,8 +582,8 @@ TechniqueInfo referenceTechnique() {
                   .minValue = 1,
                   .maxValue = kMaxSamples,
                   .choices = {},
-                  .help = "rays per receiver; the grid on the light is columns x rows = ceil to a whole grid "
-                          "(1024 on a square light: 32x32)"}},
+                  .help = "light samples per receiver, exactly: cells of equal area in rows of nearly square "
+                          "cells (1024 on a square light: 32x32)"}},
       .benchSettings = {""},
       .isReference = true,
       .make = [] { return std::make_unique<Reference>(); },

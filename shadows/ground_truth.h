@@ -1,28 +1,33 @@
 // The ray-traced ground truth for area-light visibility (DESIGN.md, "Shadows"), registered as the
-// technique "reference". For every receiver x (area_light.h)
+// technique "reference". For every receiver x with geometric (face) normal n (Receiver::normal)
 //     V(x) = (1/A) * integral over the light of v(x, y) dA_y,
-// the plain (not cosine-weighted) visible fraction of the light's area, is estimated with Embree 3
-// occlusion rays from x to the points of a stratified jittered grid on the light.
+// v(x, y) = 1 when y is in front of the one-sided light, above x's geometric tangent plane
+// (dot(n, y - x) > 0) and the segment x-y is free: the plain (not cosine-weighted) visible fraction
+// of the light's whole area (docs/techniques/reference.md). It is estimated with Embree 3 occlusion
+// rays from x to the points of a stratified jittered grid on the light.
 //
-// Sampling: light uv (s, t) in [0,1]^2 (area_light.h) is cut into `columns` x `rows` cells of
-// (nearly) square shape on the light (sampleGrid); cell (i, j) holds one point, jittered uniformly
-// inside it by hash3(pixel x, pixel y, 2 * sample + dimension) (sampling.h), sample = j * columns + i.
-// Random numbers depend on the pixel and the sample only, so the image is the same at every thread
-// count and in every run. V = (unoccluded rays) / (columns * rows). Background texels get 1,
-// receivers on or behind the light plane (dot(x - center, normal) <= 0) get 0, as forEachReceiver.
+// Sampling: light uv (s, t) in [0,1]^2 (area_light.h) is cut into exactly `samples` cells of equal
+// area, in rows of (nearly) square cells on the light (sampleGrid); each cell holds one point,
+// jittered uniformly inside it by hash3(pixel x, pixel y, 2 * sample + dimension) (sampling.h),
+// samples numbered row by row. Random numbers depend on the pixel and the sample only, so the
+// image is the same at every thread count and in every run. V = (unoccluded samples) / samples.
+// Background texels get 1, receivers on or behind the light plane (dot(x - center, normal) <= 0)
+// get 0, as forEachReceiver. A sample below the tangent plane is blocked (not traced).
 //
-// Rays: the segment x -> y is open at x: the receiver's own surface never shadows it, whichever way
-// its normal points. The origin is moved off the surface by eps along the normal, to the side the
-// ray leaves towards (pbrt-v4's OffsetRayOrigin), and the ray starts at distance eps from there:
-//     eps = 1e-4 * |x - light.center| + 4e-6 * max_i |x_i|
-// (the second term is about 32 float ulps of x, for scenes far from the origin). The ray stops at
-// t = 1 - 1e-4 with direction y - origin, short of the light itself, so geometry lying in the light
-// plane (a lamp's frame) does not block it. A segment is blocked when any caster triangle meets it
-// (either face; Embree's robust traversal, so the answer does not depend on the BVH's shape).
+// Rays: the origin is x moved off its face by eps along n (the side every traced ray leaves
+// towards), and the ray runs from there to y:
+//     eps = 2e-6 * D + 4e-6 * max_i |x_i|,
+// D the diagonal of the bounding box of the light's corners and the receivers in front of it (the
+// scene's scale: a world-unit offset that grows with the scene, not with the distance to the
+// light), the second term about 32 float ulps of x (the rounding of a rasterized position off its
+// triangle's plane). The ray stops at t = 1 - 1e-4, short of the light itself, so geometry lying in
+// the light plane (a lamp's frame) does not block it. A segment is blocked when any caster triangle
+// meets it (either face; Embree's robust traversal, so the answer does not depend on the BVH's
+// shape). The receiver's own face cannot block a ray above its plane.
 //
 // Estimator error: where v depends on s only (a straight shadow edge parallel to the light's up
-// axis), only the column holding the edge is random: the standard deviation is at most
-// 0.5 / (columns * sqrt(rows)), 0.5 * N^(-3/4) for N samples on a square light, and the RMSE over
+// axis), only the cell of each row holding the edge is random: on a square light with N = k^2
+// samples the standard deviation is at most 0.5 / (k * sqrt(k)) = 0.5 * N^(-3/4), and the RMSE over
 // a penumbra ramp is sqrt(1/6) * N^(-3/4) = 0.41 * N^(-3/4) (tests/shadows/ground_truth_test.cpp
 // measures 0.404 to 0.422 for N = 16 to 4096 against the analytic penumbra).
 //
@@ -35,6 +40,7 @@
 // scene from several threads. The other functions are pure (computeGroundTruth uses its cache).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -54,14 +60,20 @@ struct GroundTruthOptions {
   ResultCache* cache = nullptr;  // null: none
 };
 
-// The stratified grid for `samples` rays on `light`: columns along the width, rows along the
-// height, cells as close to square on the light as whole numbers allow:
-//     columns = clamp(round(sqrt(samples * width / height)), 1, samples), rows = ceil(samples / columns).
-// count() >= samples; equal when samples is a perfect square and the light is square (1024 on a
-// square light: 32 x 32). Throws std::invalid_argument when samples is outside [1, 65536].
+// The stratified grid of exactly `samples` cells of equal area 1/samples on the light (uv units),
+// as close to square on the light as whole numbers allow: `rows` rows along the height,
+//     rows = clamp(round(sqrt(samples * height / width)), 1, samples),
+// row j holding n_j = floor(samples / rows) cells, plus one for the first samples % rows rows, and
+// a height of n_j / samples in v (so every cell is 1/n_j wide and n_j / samples high: area
+// 1/samples). On a square light with a perfect square (1024: 32 x 32) it is the plain grid.
+// Throws std::invalid_argument when samples is outside [1, 65536].
 struct SampleGrid {
-  int columns = 1, rows = 1;
-  int count() const { return columns * rows; }
+  int rows = 1, samples = 1;
+  int count() const { return samples; }
+  int base() const { return samples / rows; }       // cells of the shorter rows
+  int longRows() const { return samples % rows; }   // rows holding base() + 1
+  int cellsIn(int row) const { return base() + (row < longRows() ? 1 : 0); }
+  int rowStart(int row) const { return row * base() + std::min(row, longRows()); }  // cells before `row`
 };
 SampleGrid sampleGrid(const RectLight& light, int samples);
 

@@ -25,8 +25,10 @@ class Hard final : public Technique {
       // The point-light limit: lit when the light's centre is above the receiver's tangent plane
       // and no caster is in front of it.
       if (!(glm::dot(r.normal, map_.view.origin - r.position) > 0.0f)) return 0.0f;
-      const glm::vec3 v = map_.view.toView(r.position);
-      return map_.stored(v.x / v.z, v.y / v.z) <= ownThreshold(map_.view, v, r.normal, bias_) ? 1.0f : 0.0f;
+      const glm::vec3 v = lookupPoint(map_.view, r, bias_);
+      const ReceiverPlane plane(map_.view, v, r.normal, bias_);
+      const float tx = plane.tanX(), ty = plane.tanY();
+      return map_.stored(tx, ty) <= plane.texelCentreThreshold(map_.tapMap(), tx, ty) ? 1.0f : 0.0f;
     }, SelfShadow::Handled);
     ctx.times.msEvaluate += msSince(t0);
   }

@@ -23,6 +23,7 @@ void LightSampleTests::prepare(ShadowContext& ctx, BiasParams bias) {
   const RectLight& light = ctx.in.light;
   width_ = rec.width();
   height_ = rec.height();
+  normalOffset_ = bias.normal;
   prep_.assign(static_cast<size_t>(width_) * static_cast<size_t>(height_), Prepared{});
   counts_.resize(width_, height_, 0);
   ctx.raster.run([&] {
@@ -50,9 +51,10 @@ void LightSampleTests::prepare(ShadowContext& ctx, BiasParams bias) {
 void LightSampleTests::accumulate(ShadowContext& ctx, const ShadowMap& map, glm::vec2 lp,
                                   std::span<const glm::vec2> taps) {
   // Receiver at light-space (x, y, d), view origin (lx, ly, 0): view-space (x - lx, y - ly, d).
-  const float texel = map.view.texelWorld(1.0f), znear = map.view.znear;
+  const float texel = map.view.texelWorld(1.0f), znear = map.view.znear, offset = normalOffset_ * texel;
   const glm::vec2 texelTan((map.view.tanHi.x - map.view.tanLo.x) / static_cast<float>(map.view.width),
                            (map.view.tanHi.y - map.view.tanLo.y) / static_cast<float>(map.view.height));
+  const TapMap m = map.tapMap();
   ctx.raster.run([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, height_, 4), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y != rows.end(); ++y) {
@@ -61,14 +63,26 @@ void LightSampleTests::accumulate(ShadowContext& ctx, const ShadowMap& map, glm:
         for (int x = 0; x < width_; ++x) {
           const Prepared& p = row[x];
           if (!(p.d > 0.0f)) continue;
-          const float vx = p.x - lp.x, vy = p.y - lp.y;
-          if (!(-(p.n.x * vx + p.n.y * vy + p.n.z * p.d) > 0.0f)) continue;  // below the horizon
+          float vx = p.x - lp.x, vy = p.y - lp.y, vz = p.d;
+          if (!(-(p.n.x * vx + p.n.y * vy + p.n.z * vz) > 0.0f)) continue;  // below the horizon
+          // The lookup point, moved along the normal by normalOffset_ texel footprints (shadow_map.h).
+          if (offset != 0.0f) {
+            const float o = offset * p.d;
+            vx += p.n.x * o, vy += p.n.y * o, vz += p.n.z * o;
+          }
+          const float invD = 1.0f / vz;
+          // Receiver-plane depth at the texel's centre (shadow_map.h, receiverPlaneThreshold): what the
+          // receiver's own surface stored there, whatever its slope; the bias then only covers
+          // curvature and rounding.
+          const float k = p.n.x * vx + p.n.y * vy + p.n.z * vz;
           const float beta = texel * p.bias;
-          const float threshold = beta < 1.0f ? znear * p.invD / (1.0f - beta) : INFINITY;
-          const float tx = vx * p.invD, ty = vy * p.invD;
+          const float scale = beta < 1.0f ? znear / (1.0f - beta) : INFINITY;
+          const float tx = vx * invD, ty = vy * invD;
           int lit = 0;
-          for (const glm::vec2& o : taps)
-            lit += map.stored(tx + o.x * texelTan.x, ty + o.y * texelTan.y) <= threshold ? 1 : 0;
+          for (const glm::vec2& o : taps) {
+            const float qx = tx + o.x * texelTan.x, qy = ty + o.y * texelTan.y;
+            lit += m.stored(qx, qy) <= scale * texelCentrePlane(m, qx, qy, p.n, k, invD) ? 1 : 0;
+          }
           out[x] = static_cast<uint16_t>(out[x] + lit);
         }
       }

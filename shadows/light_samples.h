@@ -38,6 +38,7 @@ class LightSampleTests {
     float x, y, d, invD, bias;
     glm::vec3 n;
   };
+  float normalOffset_ = 0.0f;  // texels (BiasParams::normal)
   int width_ = 0, height_ = 0;
   std::vector<Prepared> prep_;
   raster::Image<uint16_t> counts_;

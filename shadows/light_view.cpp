@@ -224,7 +224,7 @@ namespace {
 
 // The view from `origin` along the light's normal whose frustum spans the tangent box [lo, hi]
 // (clamped to kMaxTan, with half a texel of margin on each side so points on the box's faces map
-// inside the image, and never an empty extent).
+// inside the image, and never an extent below 1/100 of the other, centred on the box).
 LightView finishView(const RectLight& light, glm::vec3 origin, glm::vec2 lo, glm::vec2 hi, float znear, int width,
                      int height) {
   LightView v;
@@ -237,7 +237,12 @@ LightView finishView(const RectLight& light, glm::vec3 origin, glm::vec2 lo, glm
   v.height = height;
   lo = glm::clamp(lo, glm::vec2(-kMaxTan), glm::vec2(kMaxTan));
   hi = glm::clamp(hi, glm::vec2(-kMaxTan), glm::vec2(kMaxTan));
-  const glm::vec2 ext = glm::max(hi - lo, glm::vec2(1e-6f));
+  // Texels at most 100 times longer than wide: receivers along a line (a degenerate box) would
+  // otherwise give a map a millionth of a texel wide that the rasterizer cannot resolve.
+  const glm::vec2 raw = hi - lo;
+  const glm::vec2 ext = glm::max(raw, glm::vec2(std::max(1e-6f, 1e-2f * std::max(raw.x, raw.y))));
+  lo -= 0.5f * (ext - raw);
+  hi += 0.5f * (ext - raw);
   const glm::vec2 margin(ext.x / static_cast<float>(width), ext.y / static_cast<float>(height));
   v.tanLo = lo - margin;
   v.tanHi = hi + margin;
@@ -305,7 +310,12 @@ LightView makeContainingView(const RectLight& light, const LightRegion& region, 
                                static_cast<double>(grow));
     return static_cast<int>(std::clamp(s, 16.0, static_cast<double>(maxSize)));
   };
-  const glm::vec2 ext = glm::max(hi - lo, glm::vec2(1e-6f));
+  // Texels at most 100 times longer than wide: receivers along a line (a degenerate box) would
+  // otherwise give a map a millionth of a texel wide that the rasterizer cannot resolve.
+  const glm::vec2 raw = hi - lo;
+  const glm::vec2 ext = glm::max(raw, glm::vec2(std::max(1e-6f, 1e-2f * std::max(raw.x, raw.y))));
+  lo -= 0.5f * (ext - raw);
+  hi += 0.5f * (ext - raw);
   const int w = side(ext.x, sampleExt.x, sample.width), h = side(ext.y, sampleExt.y, sample.height);
   // Its near plane is the light's plane (depth D): nothing behind the light is rasterized.
   return finishView(light, light.center - back * light.normal(), lo, hi, back, w, h);

@@ -37,7 +37,9 @@ namespace penumbra::shadows {
 // One G-buffer texel as the shadow techniques see it.
 struct Receiver {
   glm::vec3 position{0.0f};  // world space
-  glm::vec3 normal{0.0f};    // unit, facing the viewer
+  glm::vec3 normal{0.0f};    // the geometric (face) normal, unit, facing the viewer: the tangent
+                             // plane of V's definition (area_light.h) and of every bias and offset;
+                             // an interpolated shading normal is for shading only
   uint32_t valid = 0;        // 0: background, nothing to shade
 };
 using ReceiverImage = raster::Image<Receiver>;

@@ -50,7 +50,7 @@ class Mvr final : public Technique {
 }  // namespace
 
 TechniqueInfo mvrTechnique() {
-  std::vector<ParamSpec> p = depthMapParams(512);
+  std::vector<ParamSpec> p = depthMapParams(512, 0.2, 0.2);  // depth at the texel centre: little bias (docs/techniques/mvr.md)
   p.push_back({.name = "views", .kind = ParamKind::Int, .defaultValue = 64, .minValue = 1, .maxValue = 1024,
                .choices = {}, .help = "depth maps, from stratified points on the light"});
   return {.name = "mvr",

@@ -84,7 +84,7 @@ class Pcf final : public Technique {
     const int64_t simd = ctx.raster.config().simd.taps;
     SkipCounter skipped;
     forEachReceiver(ctx, visibility, [&](int x, int y, const Receiver& r) {
-      const ReceiverPlane plane(view, view.toView(r.position), r.normal, bias_);
+      const ReceiverPlane plane(view, lookupPoint(view, r, bias_), r.normal, bias_);
       if (minMax_) {
         const BoxTest t = testBox(map_, pyramid_, plane, plane.tanX() - box.x, plane.tanY() - box.y,
                                   plane.tanX() + box.x, plane.tanY() + box.y);

@@ -45,7 +45,7 @@ class Pcss final : public Technique {
     const int64_t simd = ctx.raster.config().simd.taps;
     SkipCounter skipped, filterSkipped;
     forEachReceiver(ctx, visibility, [&](int x, int y, const Receiver& r) {
-      const ReceiverPlane plane(view, view.toView(r.position), r.normal, bias_);
+      const ReceiverPlane plane(view, lookupPoint(view, r, bias_), r.normal, bias_);
       const TapPlane tapPlane = plane.tapPlane();
       const float dr = plane.depth();
       // Taps at the pattern points in [0,1)^2, shifted by this (wrapped), over half-extents around the
@@ -96,7 +96,7 @@ class Pcss final : public Technique {
 }  // namespace
 
 TechniqueInfo pcssTechnique() {
-  std::vector<ParamSpec> p = depthMapParams(1024);
+  std::vector<ParamSpec> p = depthMapParams(1024, 0.5, 0.5);  // receiver-plane depth: little slope bias (docs/techniques/pcss.md)
   p.push_back({.name = "blocker_samples", .kind = ParamKind::Int, .defaultValue = 64, .minValue = 1, .maxValue = 1024,
                .choices = {}, .help = "depth lookups of the blocker search"});
   p.push_back({.name = "filter_samples", .kind = ParamKind::Int, .defaultValue = 128, .minValue = 1,

@@ -30,7 +30,7 @@ void ShadowMap::prepareLookup() {
   maxY_ = static_cast<float>(view.height - 1);
 }
 
-std::vector<ParamSpec> depthMapParams(int defaultSize, double defaultBias, double defaultSlope) {
+std::vector<ParamSpec> depthMapParams(int defaultSize, double defaultBias, double defaultSlope, double defaultNormal) {
   return {
       {.name = "map_size", .kind = ParamKind::Int, .defaultValue = static_cast<double>(defaultSize), .minValue = 16,
        .maxValue = 8192, .choices = {}, .help = "shadow map width and height, texels"},
@@ -38,11 +38,15 @@ std::vector<ParamSpec> depthMapParams(int defaultSize, double defaultBias, doubl
        .choices = {}, .help = "constant depth bias, in texel footprints at the receiver"},
       {.name = "slope_bias", .kind = ParamKind::Float, .defaultValue = defaultSlope, .minValue = 0, .maxValue = 64,
        .choices = {}, .help = "depth bias per unit tan(angle between normal and light ray), in texel footprints"},
+      {.name = "normal_offset", .kind = ParamKind::Float, .defaultValue = defaultNormal, .minValue = 0,
+       .maxValue = 16, .choices = {},
+       .help = "lookup point moved along the geometric normal, in texel footprints at the receiver"},
   };
 }
 
 BiasParams biasParams(const ParamSet& params) {
-  return {static_cast<float>(params.number("bias")), static_cast<float>(params.number("slope_bias"))};
+  return {static_cast<float>(params.number("bias")), static_cast<float>(params.number("slope_bias")),
+          static_cast<float>(params.number("normal_offset"))};
 }
 
 namespace {

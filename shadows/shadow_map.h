@@ -80,10 +80,26 @@ void renderDepthMap(ShadowContext& ctx, ShadowMap& map);
 struct BiasParams {
   float constant = 1.0f;  // texels
   float slope = 1.0f;     // texels per unit tan(theta)
+  float normal = 0.0f;    // normal offset, texels
 };
-// "map_size", "bias" and "slope_bias", shared by the depth-map techniques.
-std::vector<ParamSpec> depthMapParams(int defaultSize, double defaultBias = 1.0, double defaultSlope = 1.5);
+// "map_size", "bias", "slope_bias" and "normal_offset", shared by the depth-map techniques.
+std::vector<ParamSpec> depthMapParams(int defaultSize, double defaultBias = 1.0, double defaultSlope = 1.5,
+                                      double defaultNormal = 0.0);
 BiasParams biasParams(const ParamSet& params);
+
+// Normal offset (Holbert 2011): the point a receiver is looked up at, moved along its geometric
+// normal n by b.normal texel footprints of `view` at its depth, so that the depth test compares a
+// point off the receiver's own surface whatever the surface's slope within a texel (the depth bias
+// can then stay small: no peter-panning at contact). n faces the side the light reaches.
+inline glm::vec3 offsetAlongNormal(const LightView& view, glm::vec3 p, glm::vec3 n, BiasParams b) {
+  if (b.normal == 0.0f) return p;
+  const float d = view.toView(p).z;
+  return d > 0.0f ? p + n * (b.normal * view.texelWorld(d)) : p;
+}
+// The view-space position of receiver r as the depth tests see it (offsetAlongNormal).
+inline glm::vec3 lookupPoint(const LightView& view, const Receiver& r, BiasParams b) {
+  return view.toView(offsetAlongNormal(view, r.position, r.normal, b));
+}
 
 // The receiver depth to compare occluders with: view-space v (v.z > 0), world-space normal n.
 float biasedDepth(const LightView& view, glm::vec3 v, glm::vec3 n, BiasParams b);
@@ -102,6 +118,13 @@ class ReceiverPlane {
   ReceiverPlane(const LightView& view, glm::vec3 v, glm::vec3 n, BiasParams b);
   float threshold(float tanX, float tanY) const {
     return scale_ * std::min(hi_, std::max(lo_, a_ * tanX + b_ * tanY + c_));
+  }
+  // The threshold at the centre of the texel of `m` that (tanX, tanY) reads (texelCentrePlane):
+  // for single-texel lookups.
+  float texelCentreThreshold(const TapMap& m, float tanX, float tanY) const {
+    const float fx = std::min(m.maxX, std::max(0.0f, m.ax * tanX + m.bx));
+    const float fy = std::min(m.maxY, std::max(0.0f, m.ay * tanY + m.by));
+    return threshold((std::floor(fx) + 0.5f - m.bx) / m.ax, (std::floor(fy) + 0.5f - m.by) / m.ay);
   }
   float tanX() const { return tx_; }
   float tanY() const { return ty_; }
@@ -139,10 +162,18 @@ class SkipCounter {
   tbb::enumerable_thread_specific<size_t> counts_{0};
 };
 
-// The single-texel test of hard shadows and MVR: threshold of the receiver at its own texel.
-inline float ownThreshold(const LightView& view, glm::vec3 v, glm::vec3 n, BiasParams b) {
-  const float d = biasedDepth(view, v, n, b);
-  return d > 0.0f ? view.znear / d : INFINITY;
+// Receiver-plane depth bias for single-texel lookups (Isidoro 2006): 1 / depth of the receiver's
+// tangent plane dot(nv, q) = k (view space, k = dot(nv, v) for the receiver's point v) along the
+// ray through the centre of the texel that tangent point (tx, ty) reads. The map stored its depth
+// there, not at the receiver's point: comparing with the plane's depth at the same centre removes
+// the slope term of the bias (a planar receiver is never its own occluder, at any angle). Clamped
+// to [1/(2 d), 2/d] where the plane is seen edge-on (d = 1 / invD, the receiver's depth).
+inline float texelCentrePlane(const TapMap& m, float tx, float ty, glm::vec3 nv, float k, float invD) {
+  const float fx = std::min(m.maxX, std::max(0.0f, m.ax * tx + m.bx));
+  const float fy = std::min(m.maxY, std::max(0.0f, m.ay * ty + m.by));
+  const float cx = (std::floor(fx) + 0.5f - m.bx) / m.ax, cy = (std::floor(fy) + 0.5f - m.by) / m.ay;
+  const float inv = (nv.x * cx + nv.y * cy + nv.z) / k;
+  return std::min(2.0f * invD, std::max(0.5f * invD, inv));
 }
 
 }  // namespace penumbra::shadows

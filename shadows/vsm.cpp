@@ -19,7 +19,7 @@ class Vsm final : public Technique {
   void evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) override {
     const auto t0 = Clock::now();
     forEachReceiver(ctx, visibility, [&](int, int, const Receiver& r) {
-      const glm::vec3 v = map_.view.toView(r.position);
+      const glm::vec3 v = lookupPoint(map_.view, r, bias_);
       const MomentSample s = map_.sample(map_.view.toMap(v));
       const double t = receiverDepth(map_, v, r.normal, bias_);
       const double p = chebyshevUpperBound(s.m[0], s.m[1], t, minVariance_);

@@ -220,7 +220,7 @@ LightPoints generateLightPoints(raster::Rasterizer& raster, const Geometry& cast
 }
 
 TechniqueInfo vwssTechnique() {
-  std::vector<ParamSpec> p = depthMapParams(512);
+  std::vector<ParamSpec> p = depthMapParams(512, 0.5, 0.5);  // splatted maps: more bias than mvr (docs/techniques/vwss.md)
   p.push_back({.name = "views", .kind = ParamKind::Int, .defaultValue = 64, .minValue = 1, .maxValue = 1024,
                .choices = {}, .help = "depth maps, from the same stratified light points as mvr"});
   p.push_back({.name = "views_per_pass", .kind = ParamKind::Int, .defaultValue = 16, .minValue = 0, .maxValue = 1024,

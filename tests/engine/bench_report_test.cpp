@@ -24,9 +24,11 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-const std::vector<std::string> kKeys = {"scene",     "technique",  "params",          "ms_maps",
-                                        "ms_filter", "ms_prepare", "ms_evaluate",     "ms_total",
-                                        "rmse_v",    "max_err_v",  "frac_err_gt_005", "rmse_image"};
+const std::vector<std::string> kKeys = {
+    "scene",         "technique",     "params",        "ms_maps",        "ms_filter",      "ms_prepare",
+    "ms_evaluate",   "ms_total",      "rmse_v",        "bias_v",         "max_err_v",      "frac_err_gt_005",
+    "rmse_v_ground", "bias_v_ground", "rmse_v_object", "bias_v_object",  "rmse_v_contact", "bias_v_contact",
+    "rmse_image"};
 
 ShadowBenchRow row(const std::string& scene, const std::string& technique, const std::string& params,
                    double ms, double rmse) {
@@ -43,6 +45,10 @@ ShadowBenchRow row(const std::string& scene, const std::string& technique, const
   r.maxErrV = rmse * 4;
   r.fracErrGt005 = rmse;
   r.rmseImage = rmse / 3;
+  r.biasV = -rmse / 5;
+  r.rmseGround = rmse / 2, r.biasGround = rmse / 7;
+  r.rmseObject = rmse * 2, r.biasObject = rmse / 9;
+  r.rmseContact = rmse * 3, r.biasContact = -rmse / 11;
   return r;
 }
 
@@ -179,9 +185,11 @@ TEST(BenchReport, JsonRoundTripsWithExactKeys) {
   EXPECT_EQ(j["scene"], r.scene);
   EXPECT_EQ(j["technique"], "pcss");
   EXPECT_EQ(j["params"], r.params);
-  const double values[] = {r.msMaps, r.msFilter, r.msPrepare,    r.msEvaluate, r.msTotal,
-                           r.rmseV,  r.maxErrV,  r.fracErrGt005, r.rmseImage};
-  for (size_t k = 0; k < 9; ++k) {
+  const double values[] = {r.msMaps,      r.msFilter,   r.msPrepare,   r.msEvaluate,  r.msTotal,     r.rmseV,
+                           r.biasV,       r.maxErrV,    r.fracErrGt005, r.rmseGround, r.biasGround, r.rmseObject,
+                           r.biasObject,  r.rmseContact, r.biasContact, r.rmseImage};
+  ASSERT_EQ(std::size(values) + 3, kKeys.size());
+  for (size_t k = 0; k < std::size(values); ++k) {
     ASSERT_TRUE(j[kKeys[3 + k]].is_number()) << kKeys[3 + k];
     EXPECT_EQ(j[kKeys[3 + k]].get<double>(), values[k]) << kKeys[3 + k];  // bit-exact round trip
   }
@@ -212,7 +220,7 @@ TEST(BenchReport, CsvQuotingAndColumns) {
   r.rmseImage = -std::numeric_limits<double>::infinity();
   const std::vector<std::string> g = parseCsv(toCsv(r));
   EXPECT_EQ(g[2], "line\nbreak");
-  EXPECT_EQ(g[11], "-inf");
+  EXPECT_EQ(g[18], "-inf");
   EXPECT_EQ(parseCsv(toCsv(row("s", "t", "", 1, 2)))[2], "");
 }
 

@@ -146,22 +146,35 @@ bool sameBytes(const raster::ImageFloat& a, const raster::ImageFloat& b) {
 
 TEST(GroundTruthGrid, ShapeFollowsTheLight) {
   const SampleGrid square = sampleGrid(downLight(1, 1), 1024);
-  EXPECT_EQ(square.columns, 32);
   EXPECT_EQ(square.rows, 32);
+  EXPECT_EQ(square.base(), 32);
+  EXPECT_EQ(square.longRows(), 0);
   const SampleGrid wide = sampleGrid(downLight(2, 1), 512);  // cells of 2/32 x 1/16: square
-  EXPECT_EQ(wide.columns, 32);
   EXPECT_EQ(wide.rows, 16);
+  EXPECT_EQ(wide.base(), 32);
   const SampleGrid tall = sampleGrid(downLight(1, 4), 64);
-  EXPECT_EQ(tall.columns, 4);
   EXPECT_EQ(tall.rows, 16);
-  const SampleGrid odd = sampleGrid(downLight(1, 1), 1000);  // rounded up to a whole grid
-  EXPECT_EQ(odd.columns, 32);
+  EXPECT_EQ(tall.base(), 4);
+  // Not a whole grid: exactly the count asked for, in 32 rows of 31 or 32 (1000 = 8 * 32 + 24 * 31).
+  const SampleGrid odd = sampleGrid(downLight(1, 1), 1000);
+  EXPECT_EQ(odd.count(), 1000);
   EXPECT_EQ(odd.rows, 32);
+  EXPECT_EQ(odd.base(), 31);
+  EXPECT_EQ(odd.longRows(), 8);
+  EXPECT_EQ(odd.rowStart(8), 256);
+  EXPECT_EQ(odd.rowStart(32), 1000);
   EXPECT_EQ(sampleGrid(downLight(1, 1), 1).count(), 1);
-  EXPECT_EQ(sampleGrid(downLight(1, 1), 65536).columns, 256);
-  const SampleGrid sliver = sampleGrid(downLight(1000, 1), 16);  // columns clamp to the count
-  EXPECT_EQ(sliver.columns, 16);
+  EXPECT_EQ(sampleGrid(downLight(1, 1), 65536).rows, 256);
+  const SampleGrid sliver = sampleGrid(downLight(1000, 1), 16);  // one row of 16
   EXPECT_EQ(sliver.rows, 1);
+  EXPECT_EQ(sliver.base(), 16);
+  EXPECT_EQ(sampleGrid(downLight(1, 1000), 16).rows, 16);  // rows clamp to the count
+  for (int n : {1, 2, 3, 7, 100, 1000, 1021, 4097}) {
+    const SampleGrid g = sampleGrid(downLight(1.3f, 0.6f), n);
+    EXPECT_EQ(g.count(), n);
+    EXPECT_EQ(g.rowStart(g.rows), n) << n;
+    for (int j = 0; j < g.rows; ++j) EXPECT_GE(g.cellsIn(j), 1) << n;
+  }
   EXPECT_THROW(sampleGrid(downLight(1, 1), 0), std::invalid_argument);
   EXPECT_THROW(sampleGrid(downLight(1, 1), 65537), std::invalid_argument);
 }
@@ -204,9 +217,9 @@ TEST(GroundTruthPenumbra, MatchesTheAnalyticRamp) {
     const ErrorStats e = errorAgainstRamp(v, row, extent);
     std::printf("penumbra along %s, light %gx%g, grid %dx%d: RMSE %.5f, max |error| %.5f\n",
                 c.alongX ? "x" : "z", static_cast<double>(c.width), static_cast<double>(c.height),
-                stats.grid.columns, stats.grid.rows, e.rmse, e.maxAbs);
-    const int across = c.alongX ? stats.grid.columns : stats.grid.rows;
-    const int along = c.alongX ? stats.grid.rows : stats.grid.columns;
+                stats.grid.base(), stats.grid.rows, e.rmse, e.maxAbs);
+    const int across = c.alongX ? stats.grid.base() : stats.grid.rows;
+    const int along = c.alongX ? stats.grid.rows : stats.grid.base();
     const double sigma = 0.5 / (across * std::sqrt(static_cast<double>(along)));
     // 80% of the receivers are on the ramp; ~800 draws stay within 4.5 sigma.
     EXPECT_LT(e.rmse, 1.2 * 0.82 * sigma) << "along " << (c.alongX ? "x" : "z");
@@ -258,18 +271,18 @@ TEST(GroundTruthExact, UmbraLitBackgroundBehindAndOwnSurface) {
   rec.at(2, 0) = {};                       // background
   set(3, {0.0f, 6.0f, 0.0f}, {0, -1, 0});  // behind the light
   set(4, {0.3f, kH, 0.0f}, {0, -1, 0});    // on the light plane
-  set(5, {2.0f, 0.0f, 0.5f}, {0, -1, 0});  // lit, normal facing away: its own surface does not count
+  set(5, {2.0f, 0.0f, 0.5f}, {0, -1, 0});  // unoccluded, but the whole light below its tangent plane
   set(6, {3.0f, 0.0f, 0.0f}, {0, 1, 0});   // inside the box
-  set(7, {0.0f, 3.0f, 0.2f}, {1, 0, 0});   // lit, half the light below its tangent plane: V counts area
+  set(7, {0.0f, 3.0f, 0.2f}, {1, 0, 0});   // unoccluded, half the light below its tangent plane
   const raster::ImageFloat v = trace(mesh, rec, light, 256);
   EXPECT_EQ(v.at(0, 0), 0.0f);
   EXPECT_EQ(v.at(1, 0), 1.0f);
   EXPECT_EQ(v.at(2, 0), 1.0f);
   EXPECT_EQ(v.at(3, 0), 0.0f);
   EXPECT_EQ(v.at(4, 0), 0.0f);
-  EXPECT_EQ(v.at(5, 0), 1.0f);
+  EXPECT_EQ(v.at(5, 0), 0.0f);
   EXPECT_EQ(v.at(6, 0), 0.0f);
-  EXPECT_EQ(v.at(7, 0), 1.0f);
+  EXPECT_EQ(v.at(7, 0), 0.5f);  // 8 of every row's 16 cells lie at x > 0
 }
 
 TEST(GroundTruthExact, NoCastersEverythingInFrontIsLit) {
@@ -363,9 +376,9 @@ TEST(GroundTruthDeterminism, SameBytesAtOneAndThreeThreads) {
       [&] { computeGroundTruth(mesh.geometry(), rec, in.light, {.samples = 256, .cache = nullptr}, direct); });
   EXPECT_TRUE(sameBytes(a.visibility, direct));
   ASSERT_FALSE(a.notes.empty());
-  // A 1 x 0.7 light: 19 x 14 cells of about 0.053 x 0.05.
-  EXPECT_NE(a.notes.back().find("19x14 = 266 rays"), std::string::npos) << a.notes.back();
-  EXPECT_NE(a.notes.front().find("rounded up"), std::string::npos) << a.notes.front();
+  // A 1 x 0.7 light: exactly 256 samples in 13 rows of 19 or 20 cells (about 0.051 x 0.054).
+  EXPECT_NE(a.notes.back().find("256 samples per receiver (13 rows of 19 or 20)"), std::string::npos)
+      << a.notes.back();
   EXPECT_NE(a.notes.back().find("no cache"), std::string::npos) << a.notes.back();
 }
 
