@@ -6,6 +6,7 @@
 
 #include "apps/cli.h"
 #include "apps/commands.h"
+#include "engine/aov.h"
 #include "engine/builtin_scenes.h"
 #include "engine/image_io.h"
 #include "engine/memory.h"
@@ -77,6 +78,13 @@ void checkOutputs(const RenderArgs& a) {
   if (!a.exr.empty()) {
     checkExt("--exr", a.exr, {".exr"});
     checkFolder(a.exr);
+  }
+  if (a.aov.empty() != a.aovOut.empty()) fail(a.aov.empty() ? "option --aov-out" : "option --aov",
+                                              "give --aov LIST and --aov-out PREFIX together");
+  if (!a.aov.empty()) {
+    if (a.points) fail("option --aov", "the buffers are those of a triangle render, not of --points");
+    if (engine::Result<std::vector<engine::Aov>> list = engine::parseAovList(a.aov); !list) fail(list.error());
+    checkFolder(a.aovOut + ".exr");
   }
 }
 
@@ -173,7 +181,11 @@ int runRender(const RenderArgs& a) {
     std::vector<std::string> inputs = scene->sourceFiles;
     if (!a.pointsFile.empty()) inputs.push_back(a.pointsFile);
     if (!a.cache.empty()) inputs.push_back(a.cache);
-    refuseOverwritingInputs({path, a.exr}, inputs);
+    std::vector<std::string> outputs = {path, a.exr};
+    if (!a.aov.empty())
+      for (const std::string& p : engine::aovPaths(a.aovOut, *engine::parseAovList(a.aov), scene->areaLights.size()))
+        outputs.push_back(p);
+    refuseOverwritingInputs(outputs, inputs);
   }
   if (a.points) return renderPoints(a, *scene, eye, target, path, memoryLimit, limitSource);
 
@@ -185,12 +197,25 @@ int runRender(const RenderArgs& a) {
   progress.step(1, 2, "rendering " + std::to_string(scene->triangleCount()) + " triangles");
   const engine::Frame frame = renderer.render(*scene, resolved);
   progress.step(2, 2, "writing " + path);
-  // Both files or neither: the EXR first, then the PNG; if the PNG fails the EXR is removed.
+  // Every file or none: the AOVs, the EXR, then the PNG; a failure removes what was written.
+  std::vector<engine::Aov> aovs;
+  if (!a.aov.empty()) aovs = *engine::parseAovList(a.aov);
+  const std::vector<std::string> aovFiles = engine::aovPaths(a.aovOut, aovs, frame.visibility.size());
+  const auto removeWritten = [&](bool exr) {
+    std::error_code ec;
+    for (const std::string& f : aovFiles) std::filesystem::remove(f, ec);
+    if (exr && !a.exr.empty()) std::filesystem::remove(a.exr, ec);
+  };
+  if (!aovs.empty())
+    if (engine::Status st = engine::writeAovs(frame, aovs, a.aovOut); !st) fail(st.error());
   if (!a.exr.empty()) {
-    if (engine::Status st = engine::writeImage(a.exr, frame.linear); !st) fail(st.error());
+    if (engine::Status st = engine::writeImage(a.exr, frame.linear); !st) {
+      removeWritten(false);
+      fail(st.error());
+    }
   }
   if (engine::Status st = engine::writeImage(path, frame.color); !st) {
-    if (!a.exr.empty()) std::filesystem::remove(a.exr);
+    removeWritten(true);
     fail(st.error());
   }
   progress.done();
@@ -201,7 +226,9 @@ int runRender(const RenderArgs& a) {
                 memoryLimit ? engine::formatBytes(memoryLimit).c_str() : "none", limitSource.c_str());
     std::printf("%s", frame.stats.report().c_str());
   }
-  std::printf("wrote %s (%dx%d)%s%s\n", path.c_str(), a.width, a.height, a.exr.empty() ? "" : " and ", a.exr.c_str());
+  std::printf("wrote %s (%dx%d)%s%s", path.c_str(), a.width, a.height, a.exr.empty() ? "" : " and ", a.exr.c_str());
+  if (!aovFiles.empty()) std::printf(" and %zu buffers (%s ...)", aovFiles.size(), aovFiles.front().c_str());
+  std::printf("\n");
   return 0;
 }
 

@@ -18,6 +18,7 @@ namespace penumbra::apps {
 // only parses text into numbers. An option not given is empty, never a sentinel value.
 struct RenderArgs {
   std::string scene, builtin, exr;
+  std::string aov, aovOut;  // --aov LIST, --aov-out PREFIX (engine/aov.h)
   std::optional<std::string> output;  // none: <scene name>.png
   bool listBuiltins = false, stats = false;
   int width = 1280, height = 720, threads = 0;

@@ -70,6 +70,10 @@ int main(int argc, char** argv) {
   r->add_flag("--list-builtins", render.listBuiltins, "List the built-in scenes and exit");
   r->add_option("-o,--output", render.output, "Output PNG path (default: <scene name>.png)");
   r->add_option("--exr", render.exr, "Also write the linear image as OpenEXR to this path");
+  r->add_option("--aov", render.aov,
+                "Also write buffers as float OpenEXR: a comma list of visibility, depth, position, normal, "
+                "geometric-normal, albedo, instance (NaN where there is no receiver)");
+  r->add_option("--aov-out", render.aovOut, "Path prefix of the --aov files: PREFIX.<buffer>.exr");
   r->add_option("--width", render.width, "Image width in pixels " + engine::kWidthOption.range());
   r->add_option("--height", render.height, "Image height in pixels " + engine::kHeightOption.range());
   r->add_option("--threads", render.threads, "Worker threads " + engine::kThreadsOption.range() + " (0 = all cores)");

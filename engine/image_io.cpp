@@ -77,6 +77,7 @@ Status writeAtomically(const std::string& path, const PixelView& px) {
     }
     ImageSpec spec(px.width, px.height, px.channels, px.type);
     if (px.channels == 4) spec.alpha_channel = 3;
+    if (px.channels == 1) spec.channelnames = {"Y"};
     spec.attribute("oiio:UnassociatedAlpha", 1);  // alpha is straight: no un-premultiplication
     // No timestamp: OIIO's OpenEXR writer stamps the current time as capDate unless DateTime is
     // set; an empty one keeps the same render's file the same bytes.
@@ -318,6 +319,14 @@ Status writeImage(const std::string& path, const raster::ImageFloat& image) {
   for (int y = 0; y < image.height(); ++y)
     for (int x = 0; x < image.width(); ++x) bytes.push_back(unitToByte(image.row(y)[x]));
   return writeAtomically(path, packedView(bytes, image.width(), image.height(), 1, TypeDesc::UINT8));
+}
+
+Status writeFloatImage(const std::string& path, int width, int height, int channels, const std::vector<float>& samples) {
+  if (channels != 1 && channels != 3 && channels != 4) return Error{path, "1, 3 or 4 channels expected"};
+  if (samples.size() != pixelCount(width, height) * static_cast<size_t>(channels))
+    return Error{path, "sample count does not match the image size"};
+  if (!isFloatFormat(lowerExtension(path))) return Error{path, "float buffers are written as .exr"};
+  return writeAtomically(path, packedView(samples, width, height, channels, TypeDesc::FLOAT));
 }
 
 Result<raster::ImageRgba8> readImageRgba8(const std::string& path) {

@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "engine/error.h"
 #include "raster/image.h"
@@ -30,6 +31,9 @@ inline constexpr size_t kMaxImagePixels = size_t{1} << 26;  // 256 MiB as RGBA8
 Status writeImage(const std::string& path, const raster::ImageRgba8& image);
 Status writeImage(const std::string& path, const raster::ImageFloat4& image);
 Status writeImage(const std::string& path, const raster::ImageFloat& image);
+// Float samples, `channels` per pixel packed row by row, as a float image (an .exr path): channels
+// named Y (1), R G B (3) or R G B A (4). The same samples give the same bytes (no timestamp).
+Status writeFloatImage(const std::string& path, int width, int height, int channels, const std::vector<float>& samples);
 
 // 1-channel images become gray (r = g = b), 2-channel gray + alpha, 3-channel RGB with alpha 255,
 // more than 4 channels keep the first four. Samples of other types are converted to 8 bits by

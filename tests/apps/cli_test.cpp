@@ -197,6 +197,21 @@ TEST_F(Cli, UnwritableOutputLeavesNothing) {
                  path("ok.png"));
 }
 
+TEST_F(Cli, AovBuffersAndTheirErrors) {
+  const CliResult r = run("render --builtin knot --width 48 --height 32 --shadow pcss --aov visibility,instance --aov-out " +
+                          path("k") + " -o " + path("k.png"));
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_TRUE(fs::exists(path("k.visibility.exr")));
+  EXPECT_TRUE(fs::exists(path("k.instance.exr")));
+  EXPECT_NE(r.out.find("2 buffers"), std::string::npos) << r.out;
+  for (const char* f : {"k.visibility.exr", "k.instance.exr", "k.png"}) fs::remove(path(f));  // the checks below want none
+  const std::string o = path("o.png");
+  expectBadInput("render --width 16 --height 16 --aov colour --aov-out " + path("a") + " -o " + o, "--aov", o);
+  expectBadInput("render --width 16 --height 16 --aov depth -o " + o, "--aov-out", o);
+  expectBadInput("render --width 16 --height 16 --aov-out " + path("a") + " -o " + o, "--aov", o);
+  expectBadInput("render --width 16 --height 16 --aov depth --aov-out " + path("no/dir/a") + " -o " + o, "a.exr", o);
+}
+
 TEST_F(Cli, BenchRasterPrintsTheWorkloadFields) {
   const CliResult r = run("bench raster --synth 2048 --threads 1 --frames 1 --min-time 0 --json");
   ASSERT_EQ(r.status, 0) << r.out;
