@@ -44,19 +44,21 @@ int runStress(const StressArgs& a) {
     progress.done();
     int broken = 0;
     if (!a.json)
-      std::printf("%-8s %-12s %-24s %9s %7s %7s %9s %9s  %s\n", "technique", "case", "parameter", "receivers", "nonfin",
-                  "range", "bleed", "darken", "verdict");
+      std::printf("%-8s %-12s %-28s %9s %7s %7s %9s %9s %8s %8s  %s\n", "technique", "case", "parameter", "receivers",
+                  "nonfin", "range", "bleed", "darken", "rmse", "bias", "verdict");
     for (const ShadowStressRow& r : rows) {
       if (!r.ok()) ++broken;
       if (a.json)
         std::printf("%s\n", r.json().c_str());
       else
-        std::printf("%-8s %-12s %-24s %9zu %7zu %7zu %9.4f %9.4f  %s\n", r.technique.c_str(), r.name.c_str(),
-                    r.param.c_str(), r.receivers, r.nonFinite, r.outOfRange, r.bleed, r.darkening,
-                    r.ok() ? "ok" : "BROKEN");
+        std::printf("%-8s %-12s %-28s %9zu %7zu %7zu %9.4f %9.4f %8.4f %+8.4f  %s\n", r.technique.c_str(),
+                    r.name.c_str(), r.param.c_str(), r.receivers, r.nonFinite, r.outOfRange, r.bleed, r.darkening,
+                    r.rmse, r.bias, r.ok() ? "ok" : "BROKEN");
     }
-    if (!a.json) std::printf("%zu cases, %d broken (bleed: max V in full umbra; darken: 1 - min V in full light)\n",
-                             rows.size(), broken);
+    if (!a.json)
+      std::printf("%zu cases, %d broken (bleed: max V in full umbra; darken: 1 - min V in full light; rmse, bias: "
+                  "against the exact V of the terminator, above-caster and contact cases, nan elsewhere)\n",
+                  rows.size(), broken);
     return broken == 0 ? 0 : 1;
   }
   progress.step(1, 1, "raster cases");

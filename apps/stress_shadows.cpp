@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <glm/geometric.hpp>
 
 #include "engine/report.h"
 #include "shadows/technique.h"
@@ -92,6 +93,148 @@ ShadowStressRow runCase(raster::Rasterizer& rast, const shadows::TechniqueInfo& 
   return row;
 }
 
+// A case whose V is known per receiver: judged like the others, and compared with `exact` where
+// that is not NaN.
+ShadowStressRow runExact(raster::Rasterizer& rast, const shadows::TechniqueInfo& info, const std::string& name,
+                         const std::string& param, const shadows::ShadowInputs& in, const std::vector<float>& exact) {
+  const shadows::ShadowResult res = shadows::computeShadows(rast, in, info, shadows::ParamSet(info.params));
+  ShadowStressRow row;
+  row.technique = info.name;
+  row.name = name;
+  row.param = param;
+  double sq = 0, sum = 0, minLit = 1.0;
+  size_t n = 0;
+  const shadows::ReceiverImage& rec = *in.receivers;
+  for (int j = 0; j < rec.height(); ++j)
+    for (int i = 0; i < rec.width(); ++i) {
+      if (!rec.at(i, j).valid) continue;
+      const float v = res.visibility.at(i, j), e = exact[static_cast<size_t>(j * rec.width() + i)];
+      ++row.receivers;
+      if (!std::isfinite(v)) {
+        ++row.nonFinite;
+        continue;
+      }
+      if (v < 0.0f || v > 1.0f) ++row.outOfRange;
+      if (std::isnan(e)) continue;  // judged, not compared
+      if (e == 0.0f) row.bleed = std::max(row.bleed, static_cast<double>(v)), ++row.umbra;
+      if (e == 1.0f) minLit = std::min(minLit, static_cast<double>(v)), ++row.lit;
+      const double d = static_cast<double>(v) - static_cast<double>(e);
+      sq += d * d, sum += d, ++n;
+    }
+  row.darkening = 1.0 - minLit;
+  if (n > 0) row.rmse = std::sqrt(sq / static_cast<double>(n)), row.bias = sum / static_cast<double>(n);
+  return row;
+}
+
+struct Triangles {
+  std::vector<glm::vec3> pos;
+  std::vector<uint32_t> idx;
+  void quad(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
+    const auto base = static_cast<uint32_t>(pos.size());
+    pos.insert(pos.end(), {a, b, c, d});
+    idx.insert(idx.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  }
+};
+
+// The terminator: a UV sphere (a convex polyhedron) lit from `elevation` degrees above its
+// horizon; one receiver per facet facing the camera side, V = horizonFraction with the facet's
+// plane, exactly (every ray leaving a facet above its plane misses a convex solid).
+ShadowStressRow terminatorCase(raster::Rasterizer& rast, const shadows::TechniqueInfo& info, float elevation) {
+  Triangles t;
+  constexpr int kRings = 64, kSegments = 128;
+  const auto at = [](int i, int j) {
+    const double th = 3.14159265358979 * i / kRings, ph = 6.28318530717959 * (j % kSegments) / kSegments;
+    return glm::vec3(static_cast<float>(std::sin(th) * std::cos(ph)), static_cast<float>(std::cos(th)),
+                     static_cast<float>(std::sin(th) * std::sin(ph)));
+  };
+  for (int i = 0; i < kRings; ++i)
+    for (int j = 0; j < kSegments; ++j) t.quad(at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+  shadows::ShadowInputs in;
+  const float e = elevation * 3.14159265f / 180.0f;
+  const glm::vec3 dir(std::cos(e), std::sin(e), 0.0f);  // towards the light
+  shadows::makeRectLight(4.0f * dir, -dir, {0, 0, 1}, 1.0f, 1.0f, glm::vec3(1), 1, in.light);
+  std::vector<shadows::Receiver> list;
+  for (size_t k = 0; k + 2 < t.idx.size(); k += 3) {
+    const glm::vec3 a = t.pos[t.idx[k]], b = t.pos[t.idx[k + 1]], c = t.pos[t.idx[k + 2]];
+    const glm::vec3 cr = glm::cross(b - a, c - a);
+    if (!(glm::length(cr) > 0.0f)) continue;
+    glm::vec3 n = glm::normalize(cr);
+    const glm::vec3 x = (a + b + c) / 3.0f;
+    if (glm::dot(n, x) < 0.0f) n = -n;  // outward
+    if (n.z > 0.0f && std::fabs(n.x) < 0.5f) list.push_back({x, n, 1u});  // a band across the terminator
+  }
+  const int w = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(list.size()))));
+  shadows::ReceiverImage rec(w, w);
+  std::vector<float> exact(static_cast<size_t>(w * w), 1.0f);
+  for (size_t k = 0; k < list.size(); ++k) {
+    rec.at(static_cast<int>(k % static_cast<size_t>(w)), static_cast<int>(k / static_cast<size_t>(w))) = list[k];
+    exact[k] = shadows::horizonFraction(in.light, list[k].position, list[k].normal);
+  }
+  in.casters = {t.pos, t.idx};
+  in.receivers = &rec;
+  char p[64];
+  std::snprintf(p, sizeof p, "sphere, light %g deg up", static_cast<double>(elevation));
+  return runExact(rast, info, "terminator", p, in, exact);
+}
+
+// Receivers `gap` above a caster's surface (a plane under them), nothing else: V = the fraction
+// of the light above their plane. Flat, the plane cannot shadow them and is culled; sloped, the
+// light (3 x 3, at height 2) straddles the plane's extension, the plane is drawn into every map
+// and only the bias keeps it from shadowing its own receivers (acne).
+ShadowStressRow aboveCase(raster::Rasterizer& rast, const shadows::TechniqueInfo& info, float gap, float slopeDeg) {
+  Triangles t;
+  const float a = slopeDeg * 3.14159265f / 180.0f;
+  const glm::vec3 u(std::cos(a), std::sin(a), 0.0f), w(0, 0, 1), n(-std::sin(a), std::cos(a), 0.0f);
+  t.quad(-4.0f * u + 4.0f * w, 4.0f * u + 4.0f * w, 4.0f * u - 4.0f * w, -4.0f * u - 4.0f * w);
+  shadows::ShadowInputs in;
+  const bool sloped = slopeDeg != 0.0f;
+  shadows::makeRectLight({0, sloped ? 2.0f : 4.0f, 0}, {0, -1, 0}, {1, 0, 0}, sloped ? 3.0f : 1.0f, sloped ? 3.0f : 1.0f,
+                         glm::vec3(1), 1, in.light);
+  shadows::ReceiverImage rec(kN, kN);
+  std::vector<float> exact(static_cast<size_t>(kN * kN));
+  for (int j = 0; j < kN; ++j)
+    for (int i = 0; i < kN; ++i) {
+      const glm::vec3 x = (2.0f * (static_cast<float>(i) + 0.5f) / kN - 1.0f) * 2.0f * u +
+                          (2.0f * (static_cast<float>(j) + 0.5f) / kN - 1.0f) * 2.0f * w + gap * n;
+      rec.at(i, j) = {x, n, 1u};
+      exact[static_cast<size_t>(j * kN + i)] = shadows::horizonFraction(in.light, x, n);
+    }
+  in.casters = {t.pos, t.idx};
+  in.receivers = &rec;
+  char p[64];
+  std::snprintf(p, sizeof p, "gap %.0e, slope %g deg", static_cast<double>(gap), static_cast<double>(slopeDeg));
+  return runExact(rast, info, "above caster", p, in, exact);
+}
+
+// A unit cube on the ground; receivers on the ground in front of its +x face, the compared ones at
+// its foot (x = 0.5 + 0.002): V = the fraction of the light in front of the face's plane.
+ShadowStressRow cubeContactCase(raster::Rasterizer& rast, const shadows::TechniqueInfo& info) {
+  Triangles t;
+  const float h = 0.5f;
+  t.quad({-8, 0, 8}, {8, 0, 8}, {8, 0, -8}, {-8, 0, -8});
+  t.quad({h, 0, h}, {h, 0, -h}, {h, 1, -h}, {h, 1, h});
+  t.quad({-h, 0, -h}, {-h, 0, h}, {-h, 1, h}, {-h, 1, -h});
+  t.quad({-h, 1, -h}, {-h, 1, h}, {h, 1, h}, {h, 1, -h});
+  t.quad({-h, 0, h}, {h, 0, h}, {h, 1, h}, {-h, 1, h});
+  t.quad({h, 0, -h}, {-h, 0, -h}, {-h, 1, -h}, {h, 1, -h});
+  shadows::ShadowInputs in;
+  shadows::makeRectLight({0.3f, 3.0f, 0.0f}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1, in.light);
+  // Row 0 is the contact row; the ground in front (as a frame would hold it, so that the maps
+  // cover the neighbourhood) is judged but not compared.
+  shadows::ReceiverImage rec(kN, kN / 2);
+  std::vector<float> exact(static_cast<size_t>(kN * (kN / 2)), NAN);
+  for (int j = 0; j < kN / 2; ++j)
+    for (int i = 0; i < kN; ++i) {
+      const glm::vec3 x(h + 0.002f + 2.0f * static_cast<float>(j) / kN, 0.0f,
+                        -0.3f + 0.6f * (static_cast<float>(i) + 0.5f) / kN);
+      rec.at(i, j) = {x, {0, 1, 0}, 1u};
+      if (j == 0) exact[static_cast<size_t>(i)] = shadows::horizonFraction(in.light, x, {1, 0, 0});
+    }
+  in.casters = {t.pos, t.idx};
+  in.receivers = &rec;
+  return runExact(rast, info, "contact", "cube foot, 2e-3 from its face", in, exact);
+}
+
 }  // namespace
 
 std::string ShadowStressRow::json() const {
@@ -107,6 +250,8 @@ std::string ShadowStressRow::json() const {
   j["out_of_range"] = outOfRange;
   j["bleed"] = engine::report::jsonNumber(bleed);
   j["darkening"] = engine::report::jsonNumber(darkening);
+  j["rmse"] = engine::report::jsonNumber(rmse);
+  j["bias"] = engine::report::jsonNumber(bias);
   j["ok"] = ok();
   return engine::report::jsonLine(j);
 }
@@ -145,6 +290,10 @@ std::vector<ShadowStressRow> runShadowStress(raster::Rasterizer& rast) {
       s.rects = {{-1.5f, 0.5f, -1.5f, 1.5f, 3.0f}, {-0.2f, 1.5f, -1.0f, 1.0f, 0.3f}};
       rows.push_back(runCase(rast, t, "bleeding", "occluders at 3.0 and 0.3", s));
     }
+    // Curved and touching geometry, V known exactly.
+    for (float elevation : {30.0f, 5.0f}) rows.push_back(terminatorCase(rast, t, elevation));
+    for (float slope : {0.0f, 60.0f}) rows.push_back(aboveCase(rast, t, 1e-4f, slope));
+    rows.push_back(cubeContactCase(rast, t));
   }
   return rows;
 }

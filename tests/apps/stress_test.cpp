@@ -2,6 +2,8 @@
 // error), and each check would notice a failure.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "apps/stress_raster.h"
 #include "apps/stress_shadows.h"
 #include "apps/stress_stochastic.h"
@@ -37,10 +39,20 @@ TEST(Stress, ShadowSuiteFiniteAndInRange) {
   const std::vector<ShadowStressRow> rows = runShadowStress(r);
   size_t techniques = 0;
   for (const shadows::TechniqueInfo& t : shadows::registry()) techniques += t.isReference ? 0 : 1;
-  ASSERT_EQ(rows.size(), techniques * 7);
+  ASSERT_EQ(rows.size(), techniques * 12);
   for (const ShadowStressRow& row : rows) {
     EXPECT_TRUE(row.ok()) << row.json();
-    EXPECT_EQ(row.receivers, 48u * 48u);
+    const bool exact =
+        row.name == "terminator" || row.name == "above caster" || (row.name == "contact" && row.param[0] == 'c');
+    if (!exact) EXPECT_EQ(row.receivers, 48u * 48u);
+    if (exact) EXPECT_TRUE(std::isfinite(row.rmse)) << row.json();
+    // Receivers 1e-4 above a caster's surface, flat or sloped: no acne (hard shadows' V is 0 or 1,
+    // the point-light limit, not the fraction).
+    if (row.name == "above caster" && row.technique != "hard") EXPECT_LT(row.rmse, 0.05) << row.json();
+    // The terminator of a sphere alone: within 0.05 RMSE of the clipped-polygon fraction.
+    if (row.name == "terminator" && row.technique != "hard") EXPECT_LT(row.rmse, 0.06) << row.json();
+    // Contact at the foot of a cube: no technique leaks more than 0.1 on average (the goal).
+    if (row.name == "contact" && row.param[0] == 'c') EXPECT_LT(row.bias, 0.1) << row.json();
     EXPECT_GE(row.bleed, 0.0);
     EXPECT_LE(row.bleed, 1.0);
     // The depth-range cases have a clear umbra under the low occluder: no technique leaks there,
