@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """Writes the measured tables of `penumbra bench shadows` into the docs.
 
-Usage: scripts/shadow-bench-tables.py RESULTS_JSON
+Usage: scripts/shadow-bench-tables.py RESULTS_JSON [BEFORE_JSON]
 
 Reads the report's results.json and replaces, in docs/techniques/*.md and docs/performance.md,
 the text between <!-- bench:NAME --> and <!-- /bench --> markers: NAME is a technique (its rows
 on every scene and setting), "overview" (RMSE of V and total time of each technique's defaults
-per scene) or "vwssmvr" (VWSS against MVR at 24 and 128 maps).
+per scene), "vwssmvr" (VWSS against MVR at 24 and 128 maps), "curved" (each technique's
+defaults on the curved-mesh scenes: ground, object and contact RMSE and bias, BEFORE_JSON's
+figures next to RESULTS_JSON's when given) or "curvedNAME" (the same for technique NAME alone).
 """
 import json
 import pathlib
@@ -14,15 +16,49 @@ import re
 import sys
 
 
+def pair(r, kind):
+    """RMSE / bias of one receiver class ("ground", "object", "contact"), or a dash."""
+    rmse, bias = r.get(f"rmse_v_{kind}"), r.get(f"bias_v_{kind}")
+    return "–" if rmse is None or bias is None else f"{rmse:.4f} / {bias:+.4f}"
+
+
 def technique_table(rows, name):
-    out = ["| scene | setting | maps ms | filter ms | evaluate ms | total ms | RMSE V | max err V | > 0.05 | RMSE image |",
-           "|---|---|---|---|---|---|---|---|---|---|"]
+    out = ["| scene | setting | maps ms | filter ms | evaluate ms | total ms | RMSE V | bias V | ground RMSE / bias | "
+           "object RMSE / bias | contact RMSE / bias | > 0.05 | RMSE image |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if r["technique"] != name:
             continue
         out.append(f"| {r['scene']} | {r['params'] or 'defaults'} | {r['ms_maps']:.1f} | {r['ms_filter']:.1f} | "
-                   f"{r['ms_evaluate']:.1f} | {r['ms_total']:.1f} | {r['rmse_v']:.4f} | {r['max_err_v']:.3f} | "
+                   f"{r['ms_evaluate']:.1f} | {r['ms_total']:.1f} | {r['rmse_v']:.4f} | {r['bias_v']:+.4f} | "
+                   f"{pair(r, 'ground')} | {pair(r, 'object')} | {pair(r, 'contact')} | "
                    f"{100 * r['frac_err_gt_005']:.1f}% | {r['rmse_image']:.4f} |")
+    return "\n".join(out)
+
+
+CURVED = ("creature", "knot", "menagerie")
+
+
+def curved_table(rows, before, only=None):
+    """Defaults of each technique on the curved scenes: before -> after per receiver class."""
+    out = ["| technique | scene | ground RMSE / bias | object RMSE / bias | contact RMSE / bias | object ÷ ground |",
+           "|---|---|---|---|---|---|"]
+    techs = []
+    for r in rows:
+        if r["technique"] not in techs and (only is None or r["technique"] == only):
+            techs.append(r["technique"])
+    for t in techs:
+        for s in CURVED:
+            a = [r for r in rows if r["technique"] == t and r["scene"] == s and r["params"] == ""]
+            if not a:
+                continue
+            a = a[0]
+            b = [r for r in before if r["technique"] == t and r["scene"] == s and r["params"] == ""] if before else []
+
+            def cell(kind):
+                return (pair(b[0], kind) + " → " if b else "") + pair(a, kind)
+            ratio = a["rmse_v_object"] / a["rmse_v_ground"] if a.get("rmse_v_ground") else float("nan")
+            out.append(f"| {t} | {s} | {cell('ground')} | {cell('object')} | {cell('contact')} | {ratio:.2f} |")
     return "\n".join(out)
 
 
@@ -67,10 +103,14 @@ def vwss_table(rows):
 
 
 def main():
-    if len(sys.argv) != 2:
+    if len(sys.argv) not in (2, 3):
         sys.exit(__doc__)
     data = json.loads(pathlib.Path(sys.argv[1]).read_text())
     rows = data["rows"] if isinstance(data, dict) else data
+    before = None
+    if len(sys.argv) == 3:
+        b = json.loads(pathlib.Path(sys.argv[2]).read_text())
+        before = b["rows"] if isinstance(b, dict) else b
     root = pathlib.Path(__file__).resolve().parent.parent
     pattern = re.compile(r"(<!-- bench:([a-z0-9]+) -->\n).*?(<!-- /bench -->)", re.S)
     for path in list((root / "docs" / "techniques").glob("*.md")) + [root / "docs" / "performance.md"]:
@@ -82,6 +122,10 @@ def main():
                 table = overview_table(rows)
             elif name == "vwssmvr":
                 table = vwss_table(rows)
+            elif name == "curved":
+                table = curved_table(rows, before)
+            elif name.startswith("curved"):
+                table = curved_table(rows, before, name[len("curved"):])
             else:
                 table = technique_table(rows, name)
             return m.group(1) + table + "\n" + m.group(3)

@@ -119,7 +119,7 @@ class ReceiverPlane {
   float threshold(float tanX, float tanY) const {
     return scale_ * std::min(hi_, std::max(lo_, a_ * tanX + b_ * tanY + c_));
   }
-  // The threshold at the centre of the texel of `m` that (tanX, tanY) reads (texelCentrePlane):
+  // The threshold at the centre of the texel of `m` that (tanX, tanY) reads (as TexelCentres below):
   // for single-texel lookups.
   float texelCentreThreshold(const TapMap& m, float tanX, float tanY) const {
     const float fx = std::min(m.maxX, std::max(0.0f, m.ax * tanX + m.bx));
@@ -168,12 +168,19 @@ class SkipCounter {
 // there, not at the receiver's point: comparing with the plane's depth at the same centre removes
 // the slope term of the bias (a planar receiver is never its own occluder, at any angle). Clamped
 // to [1/(2 d), 2/d] where the plane is seen edge-on (d = 1 / invD, the receiver's depth).
-inline float texelCentrePlane(const TapMap& m, float tx, float ty, glm::vec3 nv, float k, float invD) {
-  const float fx = std::min(m.maxX, std::max(0.0f, m.ax * tx + m.bx));
-  const float fy = std::min(m.maxY, std::max(0.0f, m.ay * ty + m.by));
-  const float cx = (std::floor(fx) + 0.5f - m.bx) / m.ax, cy = (std::floor(fy) + 0.5f - m.by) / m.ay;
-  const float inv = (nv.x * cx + nv.y * cy + nv.z) / k;
-  return std::min(2.0f * invD, std::max(0.5f * invD, inv));
-}
+// TexelCentres holds a map's lookup constants with the reciprocals the centres need, made once per
+// map; invK = 1 / k once per receiver: a tap is then two floors and a few multiplications.
+struct TexelCentres {
+  TapMap m;
+  float invAx = 0, invAy = 0;
+  explicit TexelCentres(const TapMap& map) : m(map), invAx(1.0f / map.ax), invAy(1.0f / map.ay) {}
+  float plane(float tx, float ty, glm::vec3 nv, float invK, float invD) const {
+    const float fx = std::min(m.maxX, std::max(0.0f, m.ax * tx + m.bx));
+    const float fy = std::min(m.maxY, std::max(0.0f, m.ay * ty + m.by));
+    const float cx = (std::floor(fx) + 0.5f - m.bx) * invAx, cy = (std::floor(fy) + 0.5f - m.by) * invAy;
+    const float inv = (nv.x * cx + nv.y * cy + nv.z) * invK;
+    return std::min(2.0f * invD, std::max(0.5f * invD, inv));
+  }
+};
 
 }  // namespace penumbra::shadows

@@ -53,7 +53,8 @@ class Vwss final : public Technique {
   void prepare(ShadowContext& ctx, const ParamSet& params) override {
     bias_ = biasParams(params);
     size_ = params.integer("map_size");
-    points_ = lightSamplePoints(ctx.in.light, params.integer("views"));
+    samples_ = interleavedLightSamples(ctx.in.light, params.integer("views"), params.integer("interleave"));
+    const std::vector<glm::vec2>& points_ = samples_.points;
     perPass_ = params.integer("views_per_pass");
     if (perPass_ == 0 || perPass_ > static_cast<int>(points_.size())) perPass_ = static_cast<int>(points_.size());
     taps_ = params.choice("pcf") == "5" ? 5 : 1;
@@ -82,7 +83,8 @@ class Vwss final : public Technique {
   void evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) override {
     const auto t0 = Clock::now();
     LightSampleTests tests;
-    tests.prepare(ctx, bias_);
+    tests.prepare(ctx, bias_, samples_.k);
+    const std::vector<glm::vec2>& points_ = samples_.points;
     ctx.times.msEvaluate += msSince(t0);
     const int m = static_cast<int>(points_.size());
     std::vector<raster::Image<uint64_t>> keys(static_cast<size_t>(perPass_));
@@ -125,12 +127,13 @@ class Vwss final : public Technique {
         map.prepareLookup();
         ctx.times.msMaps += msSince(t2);
         const auto t3 = Clock::now();
-        tests.accumulate(ctx, map, lp, std::span<const glm::vec2>(kFiveTaps, static_cast<size_t>(taps_)));
+        tests.accumulate(ctx, map, lp, std::span<const glm::vec2>(kFiveTaps, static_cast<size_t>(taps_)),
+                         samples_.k > 1 ? samples_.subset[static_cast<size_t>(first + k)] : -1);
         ctx.times.msEvaluate += msSince(t3);
       }
     }
     const auto t4 = Clock::now();
-    tests.finish(ctx, m * taps_, visibility);
+    tests.finish(ctx, taps_, samples_, visibility);
     ctx.times.msEvaluate += msSince(t4);
     const size_t pointCount = buffered_ ? cloud_.size() : generated;
     ctx.notes.push_back("vwss: " + std::string(buffered_ ? "buffered" : "unbuffered") + ", " +
@@ -172,7 +175,7 @@ class Vwss final : public Technique {
   bool buffered_ = true, allLayers_ = true, containing_ = true, cullBack_ = false;
   float znear_ = 0;
   LightView source_;
-  std::vector<glm::vec2> points_;
+  LightSampleSet samples_;
   std::vector<glm::vec3> cloud_;
   std::vector<uint32_t> payload_;
 };
@@ -223,6 +226,7 @@ TechniqueInfo vwssTechnique() {
   std::vector<ParamSpec> p = depthMapParams(512, 0.5, 0.5);  // splatted maps: more bias than mvr (docs/techniques/vwss.md)
   p.push_back({.name = "views", .kind = ParamKind::Int, .defaultValue = 64, .minValue = 1, .maxValue = 1024,
                .choices = {}, .help = "depth maps, from the same stratified light points as mvr"});
+  p.push_back(interleaveParam());
   p.push_back({.name = "views_per_pass", .kind = ParamKind::Int, .defaultValue = 16, .minValue = 0, .maxValue = 1024,
                .choices = {}, .help = "maps splatted per traversal of the points (K; 0 = all: fully parallel)"});
   p.push_back({.name = "pcf", .kind = ParamKind::Choice, .defaultValue = 1, .minValue = 0, .maxValue = 1,

@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "shadows/area_light.h"
+#include "shadows/light_samples.h"
 #include "shadows/technique.h"
 
 namespace penumbra::shadows {
@@ -178,6 +179,45 @@ TEST(Techniques, MvrConvergesWithViews) {
     previous = mean;
   }
   EXPECT_LT(previous, 0.001);
+}
+
+TEST(Techniques, InterleavedSubsetsAreStratifiedAndCoverTheLight) {
+  RectLight light;
+  ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 2.0f, 1.0f, glm::vec3(1), 1, light));
+  const LightSampleSet one = interleavedLightSamples(light, 64, 1);
+  EXPECT_EQ(one.points, lightSamplePoints(light, 64));  // k = 1: the plain set, the same images
+  for (int n : {64, 66}) {
+    const LightSampleSet set = interleavedLightSamples(light, n, 2);
+    ASSERT_EQ(set.points.size(), static_cast<size_t>(n));
+    ASSERT_EQ(set.count.size(), 4u);
+    int total = 0;
+    for (int s = 0; s < 4; ++s) {
+      total += set.count[static_cast<size_t>(s)];
+      // Each subset covers the light: its points' mean lies near the centre, its points inside.
+      glm::vec2 mean(0.0f);
+      for (size_t i = 0; i < set.points.size(); ++i)
+        if (set.subset[i] == s) {
+          mean += set.points[i];
+          EXPECT_LE(std::abs(set.points[i].x), 1.0f);
+          EXPECT_LE(std::abs(set.points[i].y), 0.5f);
+        }
+      mean /= static_cast<float>(set.count[static_cast<size_t>(s)]);
+      EXPECT_LT(std::abs(mean.x), 0.1f) << s;
+      EXPECT_LT(std::abs(mean.y), 0.08f) << s;
+    }
+    EXPECT_EQ(total, n);
+  }
+  // MVR and VWSS with interleaving: every pixel's V a fraction of its own subset's views, near the
+  // analytic ramp on average, in [0, 1].
+  EdgeCase c;
+  for (const char* name : {"mvr", "vwss"}) {
+    double mean = 0, worst = 0;
+    const raster::ImageFloat v = run(*findTechnique(name), c.in, 2, "views=64,interleave=2");
+    rampError(v, mean, worst);
+    EXPECT_LT(mean, 0.03) << name;
+    for (int j = 0; j < EdgeCase::kH; ++j)
+      for (int i = 0; i < EdgeCase::kW; ++i) ASSERT_TRUE(v.at(i, j) >= 0.0f && v.at(i, j) <= 1.0f);
+  }
 }
 
 }  // namespace
