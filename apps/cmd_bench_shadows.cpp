@@ -57,6 +57,74 @@ Timed timedRender(engine::Renderer& renderer, const engine::Scene& scene, const 
   return t;
 }
 
+// A row's times and errors: V against the reference over every compared receiver and per class
+// (NaN where the scene has none), the image's RMSE.
+engine::ShadowBenchRow measuredRow(const Timed& t, const engine::Frame& ref, const raster::Image<uint8_t>& mask) {
+  const raster::ImageFloat& vis = t.frame.visibility.at(0);
+  const raster::ImageFloat& refVis = ref.visibility.at(0);
+  const auto split = [&](uint8_t select, double& rmse, double& bias) {
+    const engine::VisibilityError e = engine::compareVisibility(vis, refVis, mask, select);
+    rmse = e.pixels > 0 ? e.rmse : std::nan("");
+    bias = e.pixels > 0 ? e.bias : std::nan("");
+  };
+  engine::ShadowBenchRow row;
+  row.msMaps = t.msMaps;
+  row.msFilter = t.msFilter;
+  row.msPrepare = t.msPrepare;
+  row.msEvaluate = t.msEvaluate;
+  row.msTotal = t.msTotal;
+  const engine::VisibilityError e = engine::compareVisibility(vis, refVis, mask);
+  row.rmseV = e.rmse;
+  row.biasV = e.bias;
+  row.maxErrV = e.maxErr;
+  row.fracErrGt005 = e.fracOver005;
+  split(engine::kGroundReceiver, row.rmseGround, row.biasGround);
+  split(engine::kObjectReceiver, row.rmseObject, row.biasObject);
+  split(engine::kContactReceiver, row.rmseContact, row.biasContact);
+  row.rmseImage = engine::imageRmse(t.frame.color, ref.color);
+  return row;
+}
+
+void printRow(const engine::ShadowBenchRow& row, bool json) {
+  if (json) {
+    std::printf("%s\n", engine::toJson(row).c_str());
+  } else {
+    std::printf("%-9s %-6s %-40s maps %8.2f filter %7.2f eval %8.2f total %8.2f ms  rmse_v %.4f bias %+.4f max %.3f "
+                ">0.05 %5.1f%%  ground %.4f %+.4f  object %.4f %+.4f  contact %.4f %+.4f  rmse_img %.4f\n",
+                row.scene.c_str(), row.technique.c_str(), row.params.empty() ? "(defaults)" : row.params.c_str(),
+                row.msMaps, row.msFilter, row.msEvaluate, row.msTotal, row.rmseV, row.biasV, row.maxErrV,
+                100.0 * row.fracErrGt005, row.rmseGround, row.biasGround, row.rmseObject, row.biasObject, row.rmseContact,
+                row.biasContact, row.rmseImage);
+  }
+  std::fflush(stdout);
+}
+
+// What skipping saves: a setting again with caster culling off (same views): mvr with 24 maps
+// when it runs (its cost grows with the triangles drawn), else the first setting. One line.
+std::string cullingLine(engine::Renderer& renderer, const std::string& name, const engine::Scene& scene,
+                        const engine::RenderOptions& base,
+                        const std::vector<std::pair<const shadows::TechniqueInfo*, std::string>>& runs,
+                        const raster::Image<uint8_t>& mask, int repeats) {
+  size_t pick = 0;
+  for (size_t i = 0; i < runs.size(); ++i)
+    if (runs[i].first->name == "mvr" && runs[i].second == "views=24") pick = i;
+  engine::RenderOptions on = base, off = base;
+  on.shadow = off.shadow = runs[pick].first->name;
+  on.shadowParams = off.shadowParams = {runs[pick].second};
+  off.shadowCulling = false;
+  const Timed tOn = timedRender(renderer, scene, on, repeats), tOff = timedRender(renderer, scene, off, repeats);
+  const engine::LightShadowStats& s = tOn.frame.stats.shadows.at(0);
+  const engine::VisibilityError d = engine::compareVisibility(tOn.frame.visibility.at(0), tOff.frame.visibility.at(0), mask);
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "%s: %s %s: culling kept %zu of %zu triangles (%zu instances culled whole): %.2f ms, without culling "
+                "%.2f ms; V max difference %.3g, %.3f%% of receivers off by more than 0.05",
+                name.c_str(), runs[pick].first->name.c_str(), runs[pick].second.c_str(),
+                s.trianglesFlattened - s.trianglesCulled, scene.triangleCount(), s.instancesCulled, tOn.msTotal,
+                tOff.msTotal, d.maxErr, 100.0 * d.fracOver005);
+  return buf;
+}
+
 }  // namespace
 
 int runBenchShadows(const BenchShadowsArgs& a) {
@@ -163,14 +231,7 @@ int runBenchShadows(const BenchShadowsArgs& a) {
       opt.shadow = info->name;
       opt.shadowParams = {params};
       const Timed t = timedRender(renderer, scene, opt, a.runs);
-      const raster::ImageFloat& vis = t.frame.visibility.at(0);
-      const raster::ImageFloat& refVis = ref.visibility.at(0);
-      const engine::VisibilityError e = engine::compareVisibility(vis, refVis, mask);
-      const engine::VisibilityError eg = engine::compareVisibility(vis, refVis, mask, engine::kGroundReceiver);
-      const engine::VisibilityError eo = engine::compareVisibility(vis, refVis, mask, engine::kObjectReceiver);
-      const engine::VisibilityError ecn = engine::compareVisibility(vis, refVis, mask, engine::kContactReceiver);
-      const auto orNan = [](const engine::VisibilityError& x, double v) { return x.pixels > 0 ? v : std::nan(""); };
-      engine::ShadowBenchRow row;
+      engine::ShadowBenchRow row = measuredRow(t, ref, mask);
       row.scene = name;
       row.technique = info->name;
       shadows::ParamSet ps(info->params);
@@ -178,19 +239,6 @@ int runBenchShadows(const BenchShadowsArgs& a) {
       row.params = ps.changed();
       for (const shadows::ParamSpec& spec : info->params)
         if (spec.name == "views") row.views = ps.integer("views");
-      row.msMaps = t.msMaps;
-      row.msFilter = t.msFilter;
-      row.msPrepare = t.msPrepare;
-      row.msEvaluate = t.msEvaluate;
-      row.msTotal = t.msTotal;
-      row.rmseV = e.rmse;
-      row.biasV = e.bias;
-      row.rmseGround = orNan(eg, eg.rmse), row.biasGround = orNan(eg, eg.bias);
-      row.rmseObject = orNan(eo, eo.rmse), row.biasObject = orNan(eo, eo.bias);
-      row.rmseContact = orNan(ecn, ecn.rmse), row.biasContact = orNan(ecn, ecn.bias);
-      row.maxErrV = e.maxErr;
-      row.fracErrGt005 = e.fracOver005;
-      row.rmseImage = engine::imageRmse(t.frame.color, ref.color);
       const std::string stem = "images/" + safeName(name + "-" + info->name + (params.empty() ? "" : "-" + params));
       row.image = stem + ".png";
       row.heatMap = stem + "-err.png";
@@ -200,44 +248,12 @@ int runBenchShadows(const BenchShadowsArgs& a) {
           !st)
         fail(st.error());
       rows.push_back(row);
-      if (a.json) {
-        std::printf("%s\n", engine::toJson(row).c_str());
-      } else {
-        std::printf("%-9s %-6s %-40s maps %8.2f filter %7.2f eval %8.2f total %8.2f ms  rmse_v %.4f bias %+.4f max %.3f "
-                    ">0.05 %5.1f%%  ground %.4f %+.4f  object %.4f %+.4f  contact %.4f %+.4f  rmse_img %.4f\n",
-                    name.c_str(), info->name.c_str(), row.params.empty() ? "(defaults)" : row.params.c_str(), row.msMaps,
-                    row.msFilter, row.msEvaluate, row.msTotal, row.rmseV, row.biasV, row.maxErrV,
-                    100.0 * row.fracErrGt005, row.rmseGround, row.biasGround, row.rmseObject, row.biasObject,
-                    row.rmseContact, row.biasContact, row.rmseImage);
-      }
-      std::fflush(stdout);
+      printRow(row, a.json);
     }
 
-    // What skipping saves: a setting again with caster culling off (same views): mvr with 24 maps
-    // when it runs (its cost grows with the triangles drawn), else the first setting.
     progress.step(++step, steps, name + ": caster culling off");
-    {
-      size_t pick = 0;
-      for (size_t i = 0; i < runs.size(); ++i)
-        if (runs[i].first->name == "mvr" && runs[i].second == "views=24") pick = i;
-      engine::RenderOptions on = base, off = base;
-      on.shadow = off.shadow = runs[pick].first->name;
-      on.shadowParams = off.shadowParams = {runs[pick].second};
-      off.shadowCulling = false;
-      const Timed tOn = timedRender(renderer, scene, on, a.runs), tOff = timedRender(renderer, scene, off, a.runs);
-      const engine::LightShadowStats& s = tOn.frame.stats.shadows.at(0);
-      const engine::VisibilityError d = engine::compareVisibility(tOn.frame.visibility.at(0), tOff.frame.visibility.at(0), mask);
-      char buf[400];
-      std::snprintf(buf, sizeof buf,
-                    "%s: %s %s: culling kept %zu of %zu triangles (%zu instances culled whole): %.2f ms, without culling "
-                    "%.2f ms; V max difference %.3g, %.3f%% of receivers off by more than 0.05",
-                    name.c_str(), runs[pick].first->name.c_str(), runs[pick].second.c_str(),
-                    s.trianglesFlattened - s.trianglesCulled,
-                    scene.triangleCount(), s.instancesCulled, tOn.msTotal, tOff.msTotal, d.maxErr,
-                    100.0 * d.fracOver005);
-      cullingLines.push_back(buf);
-      if (!a.json) std::printf("%s\n", buf);
-    }
+    cullingLines.push_back(cullingLine(renderer, name, scene, base, runs, mask, a.runs));
+    if (!a.json) std::printf("%s\n", cullingLines.back().c_str());
   }
   progress.done();
   std::string machine = std::to_string(renderer.rasterizer().threads()) + " threads, " + std::to_string(a.width) + "x" +

@@ -174,31 +174,11 @@ int litPacket(RTCScene scene, const ReceiverRays& rr, const RectLight& light, ui
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // one origin, directions within the light's cone
   int lit = 0, lanes = 0;
-  const auto flush = [&] {
-    for (int l = lanes; l < N; ++l) {  // unused lanes: a valid ray, masked off
-      valid[l] = 0;
-      ray.org_x[l] = ray.org_y[l] = ray.org_z[l] = 0.0f;
-      ray.dir_x[l] = ray.dir_y[l] = 0.0f;
-      ray.dir_z[l] = 1.0f;
-      ray.tnear[l] = 0.0f;
-      ray.tfar[l] = kTFar;
-      ray.time[l] = 0.0f;
-      ray.mask[l] = ~0u;
-      ray.id[l] = 0;
-      ray.flags[l] = 0;
-    }
-    Call::occluded(valid, scene, &ctx, &ray);
-    for (int l = 0; l < lanes; ++l) lit += ray.tfar[l] >= 0.0f ? 1 : 0;  // occluded: tfar = -inf
-    lanes = 0;
-  };
-  for (int s = 0; s < grid.count(); ++s) {
-    glm::vec3 dir;
-    if (!rr.make(light.point(samplePoint(px, py, s, grid)), dir)) continue;
-    const int l = lanes++;
-    valid[l] = -1;
-    ray.org_x[l] = rr.org.x;
-    ray.org_y[l] = rr.org.y;
-    ray.org_z[l] = rr.org.z;
+  const auto set = [&](int l, glm::vec3 org, glm::vec3 dir, bool on) {
+    valid[l] = on ? -1 : 0;
+    ray.org_x[l] = org.x;
+    ray.org_y[l] = org.y;
+    ray.org_z[l] = org.z;
     ray.dir_x[l] = dir.x;
     ray.dir_y[l] = dir.y;
     ray.dir_z[l] = dir.z;
@@ -208,6 +188,17 @@ int litPacket(RTCScene scene, const ReceiverRays& rr, const RectLight& light, ui
     ray.mask[l] = ~0u;
     ray.id[l] = 0;
     ray.flags[l] = 0;
+  };
+  const auto flush = [&] {
+    for (int l = lanes; l < N; ++l) set(l, glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), false);  // masked off
+    Call::occluded(valid, scene, &ctx, &ray);
+    for (int l = 0; l < lanes; ++l) lit += ray.tfar[l] >= 0.0f ? 1 : 0;  // occluded: tfar = -inf
+    lanes = 0;
+  };
+  for (int s = 0; s < grid.count(); ++s) {
+    glm::vec3 dir;
+    if (!rr.make(light.point(samplePoint(px, py, s, grid)), dir)) continue;
+    set(lanes++, rr.org, dir, true);
     if (lanes == N) flush();
   }
   if (lanes > 0) flush();
