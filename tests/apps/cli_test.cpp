@@ -373,6 +373,18 @@ TEST_F(Cli, UnknownBenchSceneNamesTheOption) {
 // SIGTERM and SIGINT in the middle of a render: one line, exit 128 + signal, no file left (the
 // output nor a temporary). The temporaries of a write in progress are removed by the same handler
 // (tests/engine/atomic_file_test.cpp).
+// Whether process pid has a handler for sig (Linux: the SigCgt mask of /proc/PID/status).
+bool catches(pid_t pid, int sig) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("SigCgt:", 0) == 0) {
+      const unsigned long long mask = std::stoull(line.substr(7), nullptr, 16);
+      return (mask >> (sig - 1)) & 1ULL;
+    }
+  return false;
+}
+
 TEST_F(Cli, SignalsLeaveNoFileAndExit128PlusTheSignal) {
   for (int sig : {SIGTERM, SIGINT}) {
     const std::string out = path("big.png"), log = path("log.txt");
@@ -386,7 +398,10 @@ TEST_F(Cli, SignalsLeaveNoFileAndExit128PlusTheSignal) {
               "--shadow", "mvr", "-o", out.c_str(), static_cast<char*>(nullptr));
       ::_exit(127);
     }
-    ::usleep(1500 * 1000);
+    // Wait (at most 30 s: a loaded machine starts slowly) until the child catches the signal, so
+    // that it is its handler, not the default action, that the test sees; then let it work a while.
+    for (int i = 0; i < 600 && !catches(pid, sig); ++i) ::usleep(50 * 1000);
+    ::usleep(500 * 1000);
     ::kill(pid, sig);
     int status = 0;
     ::waitpid(pid, &status, 0);
