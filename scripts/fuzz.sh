@@ -7,6 +7,8 @@
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]     (default 20 s each; gltf scene image xyz)
 # Longer runs: scripts/fuzz.sh 3600 gltf  (the corpus in build/fuzz/corpus/ grows between runs).
 # PENUMBRA_FUZZ_SEED fixes libFuzzer's seed (scripts/test.sh uses 1); unset, each run draws one.
+# PENUMBRA_FUZZ_TIMEOUT: seconds one input may take before it counts as a hang (default 10; raise it
+# when several fuzzers share a loaded machine: under ASan an input of 0.2 s took over 10 s there).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -37,7 +39,7 @@ for t in "${targets[@]}"; do
   # folder) are read only.
   inputs=("build/fuzz/corpus/$t")
   [ -d "tests/fuzz/regressions/$t" ] && inputs+=("tests/fuzz/regressions/$t")
-  if ! ASAN_OPTIONS="$ASAN_OPTIONS:fast_unwind_on_malloc=$unwind" "build/fuzz/tests/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2560 \
+  if ! ASAN_OPTIONS="$ASAN_OPTIONS:fast_unwind_on_malloc=$unwind" "build/fuzz/tests/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout="${PENUMBRA_FUZZ_TIMEOUT:-10}" -rss_limit_mb=2560 \
       -print_final_stats=1 -seed="${PENUMBRA_FUZZ_SEED:-0}" -artifact_prefix="build/fuzz/crashes/$t-" \
       "${inputs[@]}" 2>"build/fuzz/$t.log"; then
     tail -n 40 "build/fuzz/$t.log"
