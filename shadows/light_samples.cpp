@@ -23,6 +23,7 @@ std::vector<glm::vec2> lightSamplePoints(const RectLight& light, int n) {
 LightSampleSet interleavedLightSamples(const RectLight& light, int n, int k) {
   LightSampleSet set;
   set.k = std::max(k, 1);
+  while (set.k > 1 && set.k * set.k > n) --set.k;  // every subset holds at least one point
   const int subsets = set.k * set.k;
   set.count.assign(static_cast<size_t>(subsets), 0);
   if (set.k == 1) {

@@ -30,7 +30,7 @@ std::vector<glm::vec2> lightSamplePoints(const RectLight& light, int n);
 // light; pixel (x, y) uses subset (x mod k) + k (y mod k) only. The N maps then sit at N distinct
 // light points across every k x k block, and a wide penumbra shows fine noise instead of N
 // stacked copies of the occluder's edge (at k^2 times fewer samples per pixel). k = 1: exactly
-// lightSamplePoints, one subset.
+// lightSamplePoints, one subset; k is lowered until k^2 <= n (every subset holds a point).
 struct LightSampleSet {
   std::vector<glm::vec2> points;
   std::vector<int> subset;  // per point

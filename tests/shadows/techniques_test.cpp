@@ -186,6 +186,8 @@ TEST(Techniques, InterleavedSubsetsAreStratifiedAndCoverTheLight) {
   ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 2.0f, 1.0f, glm::vec3(1), 1, light));
   const LightSampleSet one = interleavedLightSamples(light, 64, 1);
   EXPECT_EQ(one.points, lightSamplePoints(light, 64));  // k = 1: the plain set, the same images
+  EXPECT_EQ(interleavedLightSamples(light, 3, 4).k, 1);  // no empty subset: k^2 <= views
+  EXPECT_EQ(interleavedLightSamples(light, 10, 4).k, 3);
   for (int n : {64, 66}) {
     const LightSampleSet set = interleavedLightSamples(light, n, 2);
     ASSERT_EQ(set.points.size(), static_cast<size_t>(n));
