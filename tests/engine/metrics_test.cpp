@@ -2,6 +2,9 @@
 // linear, the heat map's colors at its stops, and the size checks.
 #include "engine/metrics.h"
 
+#include "engine/builtin_scenes.h"
+#include "engine/renderer.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -154,6 +157,52 @@ TEST(Metrics, VisibilityImageGrey) {
   EXPECT_EQ(g.at(4, 0), (Rgba8{0, 0, 0, 255}));
   EXPECT_EQ(g.at(5, 0), (Rgba8{51, 51, 51, 255}));  // linear, not sRGB-encoded
   EXPECT_EQ(g.at(6, 0), kHeatInvalid);
+}
+
+TEST(VisibilityMetric, BiasIsSignedAndSelectPicksAClass) {
+  raster::ImageFloat v(4, 1), ref(4, 1, 0.5f);
+  raster::Image<uint8_t> mask(4, 1, 0);
+  v.at(0, 0) = 0.7f, mask.at(0, 0) = kGroundReceiver;                     // +0.2
+  v.at(1, 0) = 0.4f, mask.at(1, 0) = kObjectReceiver;                     // -0.1
+  v.at(2, 0) = 0.6f, mask.at(2, 0) = kObjectReceiver | kContactReceiver;  // +0.1
+  v.at(3, 0) = 0.0f;                                                      // not compared
+  const VisibilityError all = compareVisibility(v, ref, mask);
+  EXPECT_EQ(all.pixels, 3u);
+  EXPECT_NEAR(all.bias, 0.2 / 3.0, 1e-6);
+  EXPECT_NEAR(compareVisibility(v, ref, mask, kGroundReceiver).bias, 0.2, 1e-6);
+  EXPECT_NEAR(compareVisibility(v, ref, mask, kObjectReceiver).bias, 0.0, 1e-6);
+  EXPECT_EQ(compareVisibility(v, ref, mask, kContactReceiver).pixels, 1u);
+  EXPECT_NEAR(compareVisibility(v, ref, mask, kContactReceiver).rmse, 0.1, 1e-6);
+}
+
+TEST(VisibilityMetric, ReceiverClassesOfABuiltInScene) {
+  Result<Scene> scene = makeBuiltinScene("creature");
+  ASSERT_TRUE(scene.ok());
+  Renderer r(2);
+  RenderOptions opt;
+  opt.width = 160;
+  opt.height = 90;
+  opt.shadow = "none";
+  const Frame f = r.render(*scene, *resolveOptions(opt));
+  const raster::Image<uint8_t> c = receiverClasses(*scene, f, scene->areaLights[0]);
+  size_t ground = 0, object = 0, contact = 0;
+  for (int y = 0; y < c.height(); ++y)
+    for (int x = 0; x < c.width(); ++x) {
+      const uint8_t k = c.at(x, y);
+      const GBufferTexel& t = f.gbuffer.at(x, y);
+      if (t.material < 0) EXPECT_EQ(k, 0) << "background is never compared";
+      ground += (k & kGroundReceiver) ? 1 : 0;
+      object += (k & kObjectReceiver) ? 1 : 0;
+      contact += (k & kContactReceiver) ? 1 : 0;
+      EXPECT_NE((k & kGroundReceiver) != 0 && (k & kObjectReceiver) != 0, true);
+      // Contact receivers are near the creature's feet: close to the ground plane y = 0.
+      if (k & kContactReceiver) EXPECT_LT(t.position.y, 0.25f) << x << "," << y;
+      // The ground is the flat instance 0.
+      if (k & kGroundReceiver) EXPECT_EQ(t.instance, 0);
+    }
+  EXPECT_GT(ground, 5000u);
+  EXPECT_GT(object, 1000u);
+  EXPECT_GT(contact, 10u);
 }
 
 }  // namespace
