@@ -81,8 +81,8 @@ Scene makeDefault() {
             at({0.6f, 0.8f, -1.6f}, 28.0f));
   glm::mat4 torus = glm::translate(glm::mat4(1.0f), {2.4f, 0.95f, 0.9f});
   torus = glm::rotate(torus, 65.0f * kDeg, glm::vec3(1, 0, 0.3f));
-  addObject(s, "torus", makeTorus(0.75f, 0.28f, 64, 32), addMaterial(s, "gold", {0.85f, 0.62f, 0.18f}, 0.8f, 96.0f), torus);
-  addObject(s, "cylinder", makeCylinder(0.45f, 2.4f, 64), addMaterial(s, "green", {0.2f, 0.6f, 0.28f}, 0.1f, 16.0f),
+  addObject(s, "torus", makeTorus(0.75f, 0.28f, 128, 64), addMaterial(s, "gold", {0.85f, 0.62f, 0.18f}, 0.8f, 96.0f), torus);
+  addObject(s, "cylinder", makeCylinder(0.45f, 2.4f, 128), addMaterial(s, "green", {0.2f, 0.6f, 0.28f}, 0.1f, 16.0f),
             at({-0.6f, 1.2f, 2.1f}));
   addObject(s, "small sphere", makeSphere(0.45f, 32, 64), addMaterial(s, "white", {0.9f, 0.9f, 0.88f}, 0.6f, 128.0f),
             at({0.9f, 0.45f, 1.3f}));

@@ -96,7 +96,7 @@ class Pcss final : public Technique {
 }  // namespace
 
 TechniqueInfo pcssTechnique() {
-  std::vector<ParamSpec> p = depthMapParams(1024, 0.5, 0.5);  // receiver-plane depth: little slope bias (docs/techniques/pcss.md)
+  std::vector<ParamSpec> p = depthMapParams(1024);  // its taps are not at texel centres: the slope bias stays (docs/techniques/pcss.md)
   p.push_back({.name = "blocker_samples", .kind = ParamKind::Int, .defaultValue = 64, .minValue = 1, .maxValue = 1024,
                .choices = {}, .help = "depth lookups of the blocker search"});
   p.push_back({.name = "filter_samples", .kind = ParamKind::Int, .defaultValue = 128, .minValue = 1,
