@@ -172,6 +172,48 @@ TEST(Shapes, TorusIsClosedOutwardAndConverges) {
   expectBounds(makeTorus(1.0f, 0.25f, 32, 16), {-1.25f, -0.25f, -1.25f}, {1.25f, 0.25f, 1.25f});
 }
 
+float unitRadius(glm::vec3) { return 1.0f; }
+float bumpyRadius(glm::vec3 d) { return 1.0f + 0.3f * std::exp((d.y - 1.0f) / 0.01f); }  // a thin spike up
+
+TEST(Shapes, RadialSurfaceIsClosedOutwardAndConverges) {
+  for (int div : {1, 3, 16}) {
+    SCOPED_TRACE(testing::Message() << div << " cells per face");
+    for (auto radius : {unitRadius, bumpyRadius}) {
+      const Mesh m = makeRadialSurface(div, radius);
+      EXPECT_EQ(m.indices.size() / 3, radialSurfaceTriangles(div));
+      expectConsistentAttributes(m);
+      expectClosed(m);
+      EXPECT_EQ(eulerCharacteristic(m), 2);  // a sphere
+      EXPECT_GT(signedVolume(m), 0.0);
+    }
+  }
+  const double exact = 4.0 / 3.0 * std::numbers::pi;
+  EXPECT_NEAR(signedVolume(makeRadialSurface(64, unitRadius)), exact, 0.002 * exact);
+}
+
+TEST(Shapes, TorusKnotIsClosedOutwardAndTheTubeHasItsVolume) {
+  for (auto [segments, sides] : {std::pair{48, 6}, std::pair{300, 16}}) {
+    SCOPED_TRACE(testing::Message() << segments << " segments, " << sides << " sides");
+    const Mesh m = makeTorusKnot(2, 3, 1.0f, 0.42f, 0.16f, segments, sides);
+    EXPECT_EQ(m.indices.size(), size_t{6} * static_cast<size_t>(segments) * static_cast<size_t>(sides));
+    expectConsistentAttributes(m);
+    expectClosed(m);
+    EXPECT_EQ(eulerCharacteristic(m), 0);  // a tube closed on itself
+    EXPECT_GT(signedVolume(m), 0.0);
+  }
+  // A tube of radius r along a curve of length L holds pi r^2 L (Pappus), the curve's length
+  // summed over fine steps.
+  double length = 0.0;
+  const auto curve = [](double t) {
+    const double ring = 1.0 + 0.42 * std::cos(3 * t);
+    return glm::dvec3(ring * std::cos(2 * t), 0.42 * std::sin(3 * t), ring * std::sin(2 * t));
+  };
+  for (int i = 0; i < 100000; ++i)
+    length += glm::length(curve(2 * std::numbers::pi * (i + 1) / 100000) - curve(2 * std::numbers::pi * i / 100000));
+  const double exact = std::numbers::pi * 0.16 * 0.16 * length;
+  EXPECT_NEAR(signedVolume(makeTorusKnot(2, 3, 1.0f, 0.42f, 0.16f, 1536, 48)), exact, 0.01 * exact);
+}
+
 TEST(Shapes, PlaneFacesUpWithOneBoundaryLoop) {
   const Mesh m = makePlane(4.0f, 2.0f, 3);
   expectConsistentAttributes(m);
