@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cstdio>
@@ -191,7 +192,14 @@ int runRender(const RenderArgs& a) {
 
   applyCamera(a, *scene, eye, target, options);
   const engine::ResolvedOptions resolved = resolveOrFail(options);
-  const engine::MemoryEstimate memory = engine::estimateFrameMemory(*scene, resolved);
+  engine::MemoryEstimate memory = engine::estimateFrameMemory(*scene, resolved);
+  if (!a.aov.empty()) {  // the AOV files are written one at a time from a packed float buffer (3 channels at most)
+    const uint64_t aovBytes = static_cast<uint64_t>(a.width) * static_cast<uint64_t>(a.height) * 3 * sizeof(float);
+    memory.bytes += aovBytes;
+    memory.parts.emplace_back("AOV buffer", aovBytes);
+    std::stable_sort(memory.parts.begin(), memory.parts.end(),
+                     [](const auto& x, const auto& y) { return x.second > y.second; });  // largest first
+  }
   require(engine::checkMemory(memory, memoryLimit, "render", limitSource));
   engine::Renderer renderer(a.threads);
   progress.step(1, 2, "rendering " + std::to_string(scene->triangleCount()) + " triangles");

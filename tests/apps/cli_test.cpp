@@ -205,6 +205,11 @@ TEST_F(Cli, AovBuffersAndTheirErrors) {
   EXPECT_TRUE(fs::exists(path("k.instance.exr")));
   EXPECT_NE(r.out.find("2 buffers"), std::string::npos) << r.out;
   for (const char* f : {"k.visibility.exr", "k.instance.exr", "k.png"}) fs::remove(path(f));  // the checks below want none
+  // The buffer they are written from is in the memory estimate, before any work.
+  const CliResult big = run("render --width 16384 --height 8192 --aov depth --aov-out " + path("b") +
+                            " --max-memory 4G -o " + path("b.png"));
+  EXPECT_EQ(big.status, 2) << big.out;
+  EXPECT_NE(big.out.find("AOV buffer"), std::string::npos) << big.out;
   const std::string o = path("o.png");
   expectBadInput("render --width 16 --height 16 --aov colour --aov-out " + path("a") + " -o " + o, "--aov", o);
   expectBadInput("render --width 16 --height 16 --aov depth -o " + o, "--aov-out", o);
