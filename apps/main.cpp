@@ -20,6 +20,7 @@
 #include "engine/atomic_file.h"
 #include "engine/builtin_scenes.h"
 #include "engine/render_options.h"
+#include "engine/version.h"
 
 using namespace penumbra;
 using namespace penumbra::apps;
@@ -59,7 +60,7 @@ void printError(const std::string& line, const char* hint = "") {
 int main(int argc, char** argv) {
   installSignalHandlers();
   CLI::App app{"penumbra: a deterministic CPU rasterizer and soft-shadow laboratory"};
-  app.set_version_flag("--version", std::string("penumbra ") + PENUMBRA_VERSION);
+  app.set_version_flag("--version", std::string("penumbra ") + penumbra::kVersion);
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show help for all subcommands");
 
@@ -72,7 +73,7 @@ int main(int argc, char** argv) {
   r->add_option("--exr", render.exr, "Also write the linear image as OpenEXR to this path");
   r->add_option("--aov", render.aov,
                 "Also write buffers as float OpenEXR: a comma list of visibility, depth, position, normal, "
-                "geometric-normal, albedo, instance (NaN where there is no receiver)");
+                "geometric-normal, albedo, instance, triangle, barycentrics (NaN where there is no receiver)");
   r->add_option("--aov-out", render.aovOut, "Path prefix of the --aov files: PREFIX.<buffer>.exr");
   r->add_option("--width", render.width, "Image width in pixels " + engine::kWidthOption.range());
   r->add_option("--height", render.height, "Image height in pixels " + engine::kHeightOption.range());
