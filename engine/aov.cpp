@@ -18,7 +18,8 @@ struct AovInfo {
 constexpr AovInfo kAovs[] = {{Aov::Visibility, "visibility"}, {Aov::Depth, "depth"},
                              {Aov::Position, "position"},     {Aov::Normal, "normal"},
                              {Aov::GeometricNormal, "geometric-normal"}, {Aov::Albedo, "albedo"},
-                             {Aov::Instance, "instance"}};
+                             {Aov::Instance, "instance"},     {Aov::Triangle, "triangle"},
+                             {Aov::Barycentrics, "barycentrics"}};
 
 std::string validNames() {
   std::string s;
@@ -65,7 +66,7 @@ std::vector<std::string> aovPaths(const std::string& prefix, const std::vector<A
 
 std::vector<float> aovSamples(const Frame& frame, Aov aov, size_t light, int& channels) {
   const raster::Image<GBufferTexel>& g = frame.gbuffer;
-  channels = aov == Aov::Visibility || aov == Aov::Depth || aov == Aov::Instance ? 1 : 3;
+  channels = aov == Aov::Visibility || aov == Aov::Depth || aov == Aov::Instance || aov == Aov::Triangle ? 1 : 3;
   std::vector<float> out;
   out.reserve(static_cast<size_t>(g.width()) * static_cast<size_t>(g.height()) * static_cast<size_t>(channels));
   const Camera& cam = frame.stats.camera;
@@ -99,6 +100,12 @@ std::vector<float> aovSamples(const Frame& frame, Aov aov, size_t light, int& ch
           break;
         case Aov::Instance:
           out.push_back(static_cast<float>(t.instance));
+          break;
+        case Aov::Triangle:
+          out.push_back(static_cast<float>(t.triangle));
+          break;
+        case Aov::Barycentrics:
+          vec(t.bary);
           break;
       }
     }

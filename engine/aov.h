@@ -12,6 +12,9 @@
 //   geometric-normal  R, G, B = the face normal V is defined by (unit, facing the viewer)
 //   albedo            R, G, B = linear base color
 //   instance          Y: the scene's instance index (exact as a float up to 2^24)
+//   triangle          Y: the triangle seen, its index in the instance's mesh (exact up to 2^24)
+//   barycentrics      R, G, B = perspective-correct barycentrics of that triangle's vertices 0, 1, 2
+//                     (a stochastic pass's blended surface: those of its first sample)
 // Files carry no timestamp: the same render gives the same bytes (engine/image_io.h).
 //
 // Thread-safety: pure functions apart from writeAovs's files.
@@ -25,7 +28,7 @@
 
 namespace penumbra::engine {
 
-enum class Aov { Visibility, Depth, Position, Normal, GeometricNormal, Albedo, Instance };
+enum class Aov { Visibility, Depth, Position, Normal, GeometricNormal, Albedo, Instance, Triangle, Barycentrics };
 
 // "visibility,depth,...": the names above, each at most once, in any order. The error names
 // `option` and lists the valid names.

@@ -28,6 +28,8 @@ struct GBufferTexel {
   glm::vec3 albedo{0.0f};    // linear base color
   int32_t material = -1;     // -1: background
   int32_t instance = -1;     // the scene's instance index; -1: background
+  int32_t triangle = -1;     // the triangle of the instance's mesh seen (its index / 3); -1: background
+  glm::vec3 bary{0.0f};      // perspective-correct barycentrics of that triangle's vertices 0, 1, 2
 };
 
 // What the shadow computation of one area light did.

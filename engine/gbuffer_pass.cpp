@@ -28,6 +28,7 @@ InstanceShading prepareInstance(const Scene& scene, const Instance& inst, const 
   sh.n0 = glm::transpose(glm::inverse(glm::mat3(t0)));
   sh.n1 = sh.moves ? glm::transpose(glm::inverse(glm::mat3(t1))) : sh.n0;
   sh.hasUv = !mesh.texcoords.empty();
+  sh.hasColor = !mesh.colors.empty();
   // Texture level of detail: texels per world unit from each triangle's uv and world areas (at
   // shutter open), times the world size of a pixel at the fragment's distance (isotropic).
   if (sh.tex && sh.hasUv) {
@@ -60,6 +61,10 @@ void vertexVaryings(const Mesh& mesh, const InstanceShading& sh, uint32_t i, flo
   v[3] = n.x, v[4] = n.y, v[5] = n.z;
   const glm::vec2 uv = sh.hasUv ? mesh.texcoords[i] : glm::vec2(0.0f);
   v[6] = uv.x, v[7] = uv.y;
+  if (sh.hasColor) {
+    const glm::vec3& c = mesh.colors[i];
+    v[8] = c.x, v[9] = c.y, v[10] = c.z;
+  }
 }
 
 glm::vec3 faceNormal(const InstanceShading& sh, uint32_t primitive, float t, const glm::vec3& pointOn,
@@ -97,6 +102,8 @@ GBufferTexel gbufferTexel(const InstanceShading& sh, const raster::Fragment& f, 
   g.normal = n;
   g.geometricNormal = faceNormal(sh, f.primitive, t, g.position, eye, n);
   g.instance = sh.instance;
+  g.triangle = static_cast<int32_t>(f.primitive);
+  g.bary = glm::vec3(f.b0, f.b1, f.b2);
   glm::vec4 base = sh.mat->baseColorFactor;
   if (sh.tex) {
     float lod = 0.0f;
@@ -108,6 +115,7 @@ GBufferTexel gbufferTexel(const InstanceShading& sh, const raster::Fragment& f, 
     }
     base *= sampleBilinear(*sh.tex, glm::vec2(f.varyings[6], f.varyings[7]), lod);
   }
+  if (sh.hasColor) base *= glm::vec4(f.varyings[8], f.varyings[9], f.varyings[10], 1.0f);
   g.albedo = glm::vec3(base);
   g.material = sh.material;
   return g;
@@ -140,7 +148,7 @@ void drawGBuffer(raster::Rasterizer& raster, const Scene& scene, const FramePlan
     raster::DrawDesc desc;
     desc.vertexCount = static_cast<uint32_t>(mesh.positions.size());
     desc.indices = mesh.indices;
-    desc.varyings = kGbufferVaryings;
+    desc.varyings = sh.varyings();
     desc.cull = raster::CullMode::None;
     st.gbuffer += raster.draw(
         desc, frame.depth,

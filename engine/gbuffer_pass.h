@@ -4,7 +4,7 @@
 //
 // Per instance: its material and texture, normal matrices and the texture's texels per world unit
 // of each triangle (the level of detail); per vertex 8 varyings (world position, world normal,
-// uv) at a shutter time; per fragment a texel (the normal faces the viewer; the texture sampled
+// uv), 11 with vertex colors, at a shutter time; per fragment a texel (the normal faces the viewer; the texture sampled
 // trilinearly at the fragment's level of detail).
 //
 // Thread-safety: InstanceShading is immutable once prepared; vertexVaryings and gbufferTexel are
@@ -23,7 +23,8 @@
 
 namespace penumbra::engine {
 
-inline constexpr int kGbufferVaryings = 8;  // world position, world normal, uv
+inline constexpr int kGbufferVaryings = 8;       // world position, world normal, uv
+inline constexpr int kGbufferMaxVaryings = 11;   // and the vertex color (Mesh::colors)
 
 // What the G-buffer needs of one instance, with transforms t0 at shutter open and t1 at close.
 struct InstanceShading {
@@ -34,8 +35,9 @@ struct InstanceShading {
   int32_t material = -1;  // the G-buffer's material index
   glm::mat4 t0{1.0f}, t1{1.0f};
   glm::mat3 n0{1.0f}, n1{1.0f};
-  bool moves = false, hasUv = false;
+  bool moves = false, hasUv = false, hasColor = false;
   std::vector<float> texelsPerUnit;
+  int varyings() const { return hasColor ? kGbufferMaxVaryings : kGbufferVaryings; }
 };
 InstanceShading prepareInstance(const Scene& scene, const Instance& inst, const glm::mat4& t0, const glm::mat4& t1);
 

@@ -62,7 +62,7 @@ MemoryEstimate estimateFrameMemory(const Scene& scene, const ResolvedOptions& re
   // Vertex stage of the largest draw (clip, screen, 8 varyings) and one batch of set-up triangles
   // with their attributes and bins.
   const uint64_t batch = std::min<uint64_t>(allTriangles, uint64_t{1} << 20);
-  part("pipeline", largestMesh * (16 + 20 + 4 * kGbufferVaryings) + batch * (64 + 48 + 16));
+  part("pipeline", largestMesh * (16 + 20 + 4 * kGbufferMaxVaryings) + batch * (64 + 48 + 16));
   if (lights > 0 && resolved.technique) {
     // One light at a time: receivers and V of every layer, the casters flattened, the technique.
     part("shadow receivers", pixels * layers * (sizeof(shadows::Receiver) + 4));

@@ -158,6 +158,11 @@ Status validateScene(Scene& scene, const std::string& where) {
         return Error{where, what + ": non-finite vertex position"};
     if (!m.texcoords.empty() && m.texcoords.size() != m.positions.size())
       return Error{where, what + ": texcoord count differs from position count"};
+    if (!m.colors.empty() && m.colors.size() != m.positions.size())
+      return Error{where, what + ": color count differs from position count"};
+    for (const glm::vec3& c : m.colors)
+      if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+        return Error{where, what + ": non-finite vertex color"};
     if (m.normals.size() != m.positions.size()) computeNormals(m);
     if (m.material >= static_cast<int>(scene.materials.size()))
       return Error{where, what + ": material index " + std::to_string(m.material) + " out of range"};

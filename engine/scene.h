@@ -39,6 +39,8 @@ struct Mesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;    // same count as positions (computed when the source has none)
   std::vector<glm::vec2> texcoords;  // empty, or same count as positions
+  std::vector<glm::vec3> colors;     // empty, or same count as positions: linear RGB per vertex, finite,
+                                     // multiplied into the material's base color
   std::vector<uint32_t> indices;     // 3 per triangle, each < positions.size()
   int material = -1;                 // index into Scene::materials, -1: default material
   glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // object-space bounding box of positions

@@ -97,6 +97,8 @@ class LayerBuilder {
     g.albedo = sumA * inv;
     g.material = first.material;
     g.instance = first.instance;
+    g.triangle = first.triangle;  // of the first sample that saw the surface
+    g.bary = first.bary;
   }
 
  private:
@@ -105,7 +107,7 @@ class LayerBuilder {
   bool fragment(const Mesh& mesh, const InstanceShading& sh, uint32_t tri, uint32_t prim, const stochastic::Sample& at,
                 int x, int y, raster::Fragment& f, float* out) const {
     glm::vec4 c[3];
-    float vary[3][kGbufferVaryings];
+    float vary[3][kGbufferMaxVaryings];
     const float* vp[3];
     for (int j = 0; j < 3; ++j) {
       const uint32_t vtx = geo_.indices[static_cast<size_t>(tri) * 3 + static_cast<size_t>(j)];
@@ -114,7 +116,7 @@ class LayerBuilder {
       vertexVaryings(mesh, sh, mesh.indices[static_cast<size_t>(prim) * 3 + static_cast<size_t>(j)], at.t, vary[j]);
       vp[j] = vary[j];
     }
-    return stochastic::sampleFragment(c, vp, kGbufferVaryings, target_, x, y, f, out);
+    return stochastic::sampleFragment(c, vp, sh.varyings(), target_, x, y, f, out);
   }
 
   // The shadow receiver of the layer's median-time sample; a moving surface at the same
@@ -125,7 +127,7 @@ class LayerBuilder {
     glm::vec3 rp(0.0f);
     const float b[3] = {f.b0, f.b1, f.b2};
     for (int j = 0; j < 3; ++j) {
-      float v[kGbufferVaryings];
+      float v[kGbufferMaxVaryings];
       vertexVaryings(mesh, sh, mesh.indices[static_cast<size_t>(f.primitive) * 3 + static_cast<size_t>(j)],
                      plan_.casterTime, v);
       rp += glm::vec3(v[0], v[1], v[2]) * b[j];

@@ -42,10 +42,13 @@ Exr readExr(const std::string& p) {
   return e;
 }
 
+constexpr const char* kAllAovs =
+    "visibility,depth,position,normal,geometric-normal,albedo,instance,triangle,barycentrics";
+
 TEST(Aov, NamesParseAndErrorsNameTheOption) {
-  const Result<std::vector<Aov>> all = parseAovList("visibility,depth,position,normal,geometric-normal,albedo,instance");
+  const Result<std::vector<Aov>> all = parseAovList(kAllAovs);
   ASSERT_TRUE(all.ok());
-  EXPECT_EQ(all->size(), 7u);
+  EXPECT_EQ(all->size(), 9u);
   EXPECT_EQ(aovName((*all)[4]), std::string("geometric-normal"));
   for (const char* bad : {"", "visibility,", "colour", "depth,depth"}) {
     const Result<std::vector<Aov>> r = parseAovList(bad);
@@ -78,13 +81,14 @@ TEST_F(AovFiles, ChannelsValuesAndNanOnBackground) {
   opt.shadow = "mvr";
   opt.shadowParams = {"views=8"};
   const Frame f = test::renderFrame(r, *scene, opt);
-  const std::vector<Aov> all = *parseAovList("visibility,depth,position,normal,geometric-normal,albedo,instance");
+  const std::vector<Aov> all = *parseAovList(kAllAovs);
   const std::string prefix = (dir_ / "f").string();
   ASSERT_TRUE(writeAovs(f, all, prefix).ok());
   size_t background = 0, receivers = 0;
   const Exr vis = readExr(prefix + ".visibility.exr"), depth = readExr(prefix + ".depth.exr"),
             pos = readExr(prefix + ".position.exr"), gn = readExr(prefix + ".geometric-normal.exr"),
-            inst = readExr(prefix + ".instance.exr");
+            inst = readExr(prefix + ".instance.exr"), tri = readExr(prefix + ".triangle.exr"),
+            bary = readExr(prefix + ".barycentrics.exr");
   ASSERT_EQ(vis.width, 64);
   ASSERT_EQ(vis.height, 40);
   EXPECT_EQ(vis.channels, std::vector<std::string>{"Y"});
@@ -105,6 +109,22 @@ TEST_F(AovFiles, ChannelsValuesAndNanOnBackground) {
       EXPECT_EQ(gn.samples[3 * i + 2], t.geometricNormal.z);
       EXPECT_EQ(inst.samples[i], static_cast<float>(t.instance));
       EXPECT_GT(depth.samples[i], 0.0f);
+      // The triangle and its barycentrics give back the world position.
+      EXPECT_EQ(tri.samples[i], static_cast<float>(t.triangle));
+      const Instance& in = scene->instances[static_cast<size_t>(t.instance)];
+      const Mesh& mesh = scene->meshes[static_cast<size_t>(in.mesh)];
+      ASSERT_LT(static_cast<size_t>(t.triangle) * 3 + 2, mesh.indices.size());
+      glm::vec3 rebuilt(0.0f);
+      float sum = 0.0f;
+      for (int k = 0; k < 3; ++k) {
+        const float b = bary.samples[3 * i + static_cast<size_t>(k)];
+        EXPECT_GE(b, -1e-4f);
+        sum += b;
+        const uint32_t v = mesh.indices[static_cast<size_t>(t.triangle) * 3 + static_cast<size_t>(k)];
+        rebuilt += b * glm::vec3(in.transform * glm::vec4(mesh.positions[v], 1.0f));
+      }
+      EXPECT_NEAR(sum, 1.0f, 1e-4f);
+      EXPECT_LT(glm::length(rebuilt - t.position), 1e-3f * (1.0f + glm::length(t.position)));
       // The geometric normal is a unit face normal facing the camera.
       const glm::vec3 n(gn.samples[3 * i], gn.samples[3 * i + 1], gn.samples[3 * i + 2]);
       EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
@@ -121,7 +141,7 @@ TEST_F(AovFiles, SameBytesAcrossThreadCountsAndReruns) {
   opt.width = 48;
   opt.height = 32;
   opt.shadow = "pcss";
-  const std::vector<Aov> all = *parseAovList("visibility,depth,position,normal,geometric-normal,albedo,instance");
+  const std::vector<Aov> all = *parseAovList(kAllAovs);
   std::vector<std::string> first;
   for (int threads : {1, 3, 3}) {
     Renderer r(threads);

@@ -232,3 +232,55 @@ TEST(RendererDefaults, ExposureAndToneMap) {
 
 }  // namespace
 }  // namespace penumbra::engine
+
+namespace penumbra::engine {
+namespace {
+
+// Vertex colors multiply the material's base color, interpolated like every varying: the G-buffer
+// albedo is the base color times the barycentric blend of the seen triangle's vertex colors.
+TEST(Renderer, VertexColorsMultiplyTheBaseColor) {
+  Scene s;
+  Mesh m = makePlane(2.0f, 2.0f, 3);
+  for (size_t i = 0; i < m.positions.size(); ++i)
+    m.colors.emplace_back(static_cast<float>(i % 3) / 2.0f, static_cast<float>(i % 5) / 4.0f, 1.0f);
+  s.meshes.push_back(m);
+  Material mat;
+  mat.baseColorFactor = glm::vec4(0.5f, 0.25f, 1.0f, 1.0f);
+  s.materials.push_back(mat);
+  s.meshes[0].material = 0;
+  s.instances.push_back({.name = "plane", .mesh = 0});
+  s.camera = Camera{.eye = glm::vec3(0.0f, 3.0f, 0.5f), .target = glm::vec3(0.0f)};
+  ASSERT_TRUE(validateScene(s, "colors").ok());
+  Renderer r(2);
+  RenderOptions opt;
+  opt.width = 40;
+  opt.height = 30;
+  opt.shadow = "none";
+  const Frame f = test::renderFrame(r, s, opt);
+  size_t seen = 0;
+  for (int y = 0; y < opt.height; ++y)
+    for (int x = 0; x < opt.width; ++x) {
+      const GBufferTexel& t = f.gbuffer.at(x, y);
+      if (t.material < 0) continue;
+      ++seen;
+      glm::vec3 blend(0.0f);
+      for (int k = 0; k < 3; ++k)
+        blend += t.bary[k] * s.meshes[0].colors[s.meshes[0].indices[static_cast<size_t>(t.triangle) * 3 +
+                                                                     static_cast<size_t>(k)]];
+      const glm::vec3 want = glm::vec3(mat.baseColorFactor) * blend;
+      EXPECT_NEAR(t.albedo.x, want.x, 1e-5f);
+      EXPECT_NEAR(t.albedo.y, want.y, 1e-5f);
+      EXPECT_NEAR(t.albedo.z, want.z, 1e-5f);
+    }
+  EXPECT_GT(seen, 400u);
+  // Wrong counts and non-finite colors are refused, naming the mesh.
+  Scene bad = s;
+  bad.meshes[0].colors.pop_back();
+  EXPECT_NE(validateScene(bad, "colors").error().line().find("color count"), std::string::npos);
+  bad = s;
+  bad.meshes[0].colors[2].y = NAN;
+  EXPECT_NE(validateScene(bad, "colors").error().line().find("non-finite vertex color"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace penumbra::engine
