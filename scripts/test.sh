@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing (Debian 12 packages), builds everything and runs the whole test suite:
-#   1. Release build, all tests (labels: unit, cli);
+#   1. Release build, all tests (labels: unit, cli, python, package), the Python module installed
+#      for the user;
 #   2. AddressSanitizer + UndefinedBehaviorSanitizer build of everything, all tests again (the CLI
 #      tests then run the sanitized `penumbra` binary).
 #   3. the fuzz targets of tests/fuzz (clang's libFuzzer, ASan + UBSan), 20 s each from the seed
@@ -14,6 +15,7 @@ jobs=${PENUMBRA_JOBS:-2}
 echo "== Release build and tests"
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build/release -j"$jobs"
+scripts/install-python.sh build/release
 ctest --test-dir build/release -j"$jobs" --output-on-failure --timeout 900
 
 if [ "${PENUMBRA_SKIP_SANITIZE:-0}" != 1 ]; then
