@@ -64,7 +64,9 @@ int runBenchRaster(const BenchRasterArgs& a) {
   std::vector<std::string> workloads;
   if (a.workload == "W1" || a.workload == "both") workloads.push_back("W1");
   if (a.workload == "W2" || a.workload == "both") workloads.push_back("W2");
-  const int total = static_cast<int>(meshes.size() * workloads.size() * threads.size());
+  for (int s : a.msaa)
+    if (!raster::isSampleCount(s)) fail("option --msaa", "sample counts must be 1, 2, 4 or 8, got " + std::to_string(s));
+  const int total = static_cast<int>(meshes.size() * (workloads.size() + a.msaa.size()) * threads.size());
   Progress progress("bench raster");
   int index = 0;
   for (const auto& [name, mesh] : meshes)
@@ -75,6 +77,20 @@ int runBenchRaster(const BenchRasterArgs& a) {
         std::printf("%s\n", a.json ? r.json().c_str() : r.line().c_str());
         std::fflush(stdout);
       }
+  // Multisampled W2: the cost at each sample count, and the edge error (once per mesh and count).
+  for (const auto& [name, mesh] : meshes)
+    for (int s : a.msaa) {
+      const EdgeError e = w2EdgeError(mesh, s, 240, 135, maxThreads);
+      for (int t : threads) {
+        progress.step(++index, total, name + " W2 msaa " + std::to_string(s) + " threads=" + std::to_string(t));
+        WorkloadResult r = s == 1 ? runWorkload("W2", name, mesh, t, a.frames, a.minSeconds)
+                                  : runW2Multisample(name, mesh, t, s, a.frames, a.minSeconds);
+        r.edgeRmse = e.rmse;
+        r.edgePixels = e.edgePixels;
+        std::printf("%s\n", a.json ? r.json().c_str() : r.line().c_str());
+        std::fflush(stdout);
+      }
+    }
   progress.done();
   return 0;
 }

@@ -33,6 +33,7 @@ struct RenderArgs {
   std::string pointsFile;             // .xyz file of points instead of sampling the scene
   // Motion blur and depth of field (the stochastic pass, when the scene moves or has a lens).
   int spp = 16;                       // samples per pixel [1, 64]
+  int msaa = 1;                       // G-buffer samples per pixel: 1, 2, 4, 8
   std::string bounds = "dual";        // box, interval, dual
   std::string strata;                 // interval bounds "T" or "T,L" (time strata, lens cells per axis)
   int64_t frame = 0;                  // seeds the sample pattern, [0, 2^32)
@@ -59,6 +60,7 @@ struct BenchRasterArgs {
   std::vector<long> synth;
   std::vector<int> threads;
   std::string workload = "both";
+  std::vector<int> msaa;  // W2 also at these sample counts (1, 2, 4, 8), with the edge error
   int frames = 10;
   double minSeconds = 1.0;
   bool json = false;

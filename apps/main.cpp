@@ -96,6 +96,9 @@ int main(int argc, char** argv) {
                 "Text file of points, one 'x y z' or 'x y z r g b' (0..255) per line; camera fitted to them "
                 "unless a scene is named");
 
+  r->add_option("--msaa", render.msaa,
+                "Multisample antialiasing: samples per pixel of the G-buffer pass, " + engine::kMsaaOption.range() +
+                    " (default 1; a stochastic pass antialiases by its own samples)");
   r->add_option("--spp", render.spp,
                 "Samples per pixel of the stochastic pass (motion blur, depth of field) " + engine::kSppOption.range());
   r->add_option("--bounds", render.bounds, "Stochastic bounding method: box, interval or dual (default dual)");
@@ -129,6 +132,10 @@ int main(int argc, char** argv) {
   br->add_option("--synth", bench.synth, "Synthetic mesh with about N triangles (repeatable; default 1000000 4000000)");
   br->add_option("--threads", bench.threads, "Thread counts to run (default: 1 and 2)")->delimiter(',');
   br->add_option("--workload", bench.workload, "W1, W2 or both")->check(CLI::IsMember({"W1", "W2", "both"}));
+  br->add_option("--msaa", bench.msaa,
+                 "Also W2 multisampled at these sample counts (1, 2, 4, 8; e.g. 1,4,8), each with its edge error "
+                 "against 16x16 supersampling")
+      ->delimiter(',');
   br->add_option("--frames", bench.frames, "Minimum timed frames per run (default 10)");
   br->add_option("--min-time", bench.minSeconds, "Minimum seconds per run (default 1)");
   br->add_flag("--json", bench.json, "One JSON object per run on stdout");

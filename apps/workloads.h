@@ -19,6 +19,9 @@ struct WorkloadResult {
   int frames = 0;
   double medianMs = 0, minMs = 0, maxMs = 0, mtrisPerS = 0;
   raster::PassStats stats;  // of the last frame
+  int samples = 1;          // W2 multisampled: samples per pixel
+  double edgeRmse = -1;     // >= 0: the antialiasing error (w2EdgeError) at these samples
+  size_t edgePixels = 0;
   std::string json() const;
   std::string line() const;
 };
@@ -40,5 +43,20 @@ glm::mat4 w2CameraMatrix(const ViewFit& fit, glm::vec3* lightDir);
 WorkloadResult runWorkload(const std::string& workload, const std::string& meshName, const engine::Mesh& mesh,
                            int threads, int minFrames, double minSeconds, raster::ImageRgba8* colorOut = nullptr,
                            raster::DepthTarget* depthOut = nullptr, raster::RasterConfig config = {});
+
+// W2 multisampled (samples in {2, 4, 8}): each sample's triangle and barycentrics, then per pixel
+// one shaded texel per triangle seen, blended by sample counts (the engine's msaa resolve), timed
+// like runWorkload. Its workload name is "W2x<samples>".
+WorkloadResult runW2Multisample(const std::string& meshName, const engine::Mesh& mesh, int threads, int samples,
+                                int minFrames, double minSeconds);
+
+// Antialiasing error of W2's image at width x height with `samples` samples per pixel against a
+// 16 x 16 supersampled reference (the ordinary pass at 16 times the resolution, box-filtered):
+// RMSE of linear RGB over the silhouette pixels (those whose 256 sub-pixels are partly covered).
+struct EdgeError {
+  double rmse = 0;
+  size_t edgePixels = 0;
+};
+EdgeError w2EdgeError(const engine::Mesh& mesh, int samples, int width, int height, int threads);
 
 }  // namespace penumbra::apps

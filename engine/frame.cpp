@@ -47,6 +47,11 @@ std::string FrameStats::report() const {
   std::snprintf(buf, sizeof buf, "  ordinary G-buffer pass: %zu instances (%zu triangles)\n", instancesOrdinary,
                 trianglesOrdinary);
   s += buf;
+  if (!msaaPlan.empty()) {
+    s += "  multisampling: " + msaaPlan;
+    if (msaa > 1) s += "; pixels whose samples of one instance joined another's layer (more triangles than layers): " + std::to_string(msaaPixelsMerged);
+    s += "\n";
+  }
   if (stochastic) {
     std::snprintf(buf, sizeof buf,
                   "  stochastic pass: %s; %zu instances (%zu triangles) through it, %.2f ms (the tiles include "

@@ -65,6 +65,11 @@ struct FrameStats {
   stochastic::StochasticStats stoch;
   std::string boundMethod;
   double msStochastic = 0;
+  // Multisampling of the ordinary pass (msaa_pass.h): samples per pixel (1: none), pixels whose
+  // samples saw more instances than layers, and what was done ("" for 1 sample).
+  int msaa = 1;
+  size_t msaaPixelsMerged = 0;
+  std::string msaaPlan;
   // The plan and what each pass did and skipped, several lines (--stats).
   std::string report() const;
 };

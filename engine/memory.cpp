@@ -35,7 +35,8 @@ MemoryEstimate estimateFrameMemory(const Scene& scene, const ResolvedOptions& re
   const Camera* cam = o.camera ? &*o.camera : scene.camera ? &*scene.camera : nullptr;
   stochastic |= cam && cam->apertureRadius > 0.0f;
   stochastic &= !o.at.has_value();
-  const uint64_t layers = stochastic ? stochastic::kMaxLayers : 1;
+  const uint64_t msaa = o.msaa > 1 && !stochastic ? static_cast<uint64_t>(o.msaa) : 1;
+  const uint64_t layers = stochastic || msaa > 1 ? stochastic::kMaxLayers : 1;
   const uint64_t lights = scene.areaLights.size();
 
   uint64_t largestMesh = 0, allVertices = 0, allTriangles = 0, stochasticVertices = 0, stochasticTriangles = 0;
@@ -59,6 +60,11 @@ MemoryEstimate estimateFrameMemory(const Scene& scene, const ResolvedOptions& re
     part("stochastic layers", pixels * (sizeof(stochastic::ResolvedPixel) + (layers - 1) * sizeof(GBufferTexel) +
                                         layers * sizeof(shadows::Receiver) + 1) +
                                   stochasticVertices * 32 + stochasticTriangles * 16);
+  // Multisampling: a depth target (depth + coarse) and a hit record (msaa_pass.cpp) per sample, and
+  // the layers as a stochastic pass's.
+  if (msaa > 1)
+    part("multisample targets and layers", pixels * (msaa * (4 + 1 + 20) + sizeof(stochastic::ResolvedPixel) +
+                                                     (layers - 1) * sizeof(GBufferTexel) + layers * sizeof(shadows::Receiver)));
   // Vertex stage of the largest draw (clip, screen, 8 varyings) and one batch of set-up triangles
   // with their attributes and bins.
   const uint64_t batch = std::min<uint64_t>(allTriangles, uint64_t{1} << 20);

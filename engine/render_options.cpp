@@ -48,6 +48,7 @@ bool parseToneMap(const std::string& name, ToneMap& t) {
 Result<ResolvedOptions> resolveOptions(const RenderOptions& o) {
   for (const auto& [spec, v] : {std::pair{&kWidthOption, double(o.width)}, std::pair{&kHeightOption, double(o.height)},
                                 std::pair{&kSppOption, double(o.spp)}, std::pair{&kDualBlockOption, double(o.dualBlock)},
+                                std::pair{&kMsaaOption, double(o.msaa)},
                                 std::pair{&kFrameOption, double(o.frame)}, std::pair{&kExposureOption, o.exposure}})
     if (Status st = spec->check(v); !st) return st.error();
   if (o.timeStrata)

@@ -45,6 +45,7 @@ inline constexpr OptionSpec kLensStrataOption{"--strata (lens cells L)", 1, stoc
 inline constexpr OptionSpec kDualBlockOption{"--dual-block", 1, stochastic::kMaxDualBlock, false, false, true};
 inline constexpr OptionSpec kFrameOption{"--frame", 0, 4294967295.0};
 inline constexpr OptionSpec kExposureOption{"--exposure", -20, 20};
+inline constexpr OptionSpec kMsaaOption{"--msaa", 1, 8, false, false, true};
 
 // How linear radiance becomes the 8-bit image (the EXR keeps the radiance as it is).
 enum class ToneMap : uint8_t {
@@ -91,6 +92,9 @@ struct RenderOptions {
   // sRGB. 0 and None leave the bytes as without them.
   double exposure = 0.0;
   ToneMap toneMap = ToneMap::None;
+  // Multisample antialiasing of the ordinary G-buffer pass: samples per pixel, kMsaaOption (1, 2,
+  // 4 or 8; 1: none). Not applied where a stochastic pass runs (its samples already antialias).
+  int msaa = 1;
 };
 
 struct ResolvedOptions {

@@ -5,6 +5,7 @@
 #include <glm/vec4.hpp>
 
 #include "engine/gbuffer_pass.h"
+#include "engine/msaa_pass.h"
 #include "engine/shading.h"
 #include "engine/shadow_pass.h"
 #include "engine/stochastic_pass.h"
@@ -26,8 +27,15 @@ Frame Renderer::render(const Scene& scene, const ResolvedOptions& options) {
   Frame frame;
   const FramePlan plan = planFrame(scene, options, frame.stats);
   frame.viewProj = plan.viewProj;
-  drawGBuffer(raster_, scene, plan, frame);
-  std::vector<raster::Image<shadows::Receiver>> layerReceivers;  // after a stochastic pass
+  std::vector<raster::Image<shadows::Receiver>> layerReceivers;  // of a layered frame (msaa, stochastic)
+  const int msaa = options.options.msaa;
+  if (msaa > 1 && !plan.stochasticPass) {
+    frame.stats.msaaPlan = std::to_string(msaa) + " samples per pixel, one shaded texel per triangle seen";
+    drawGBufferMultisample(raster_, scene, plan, msaa, frame, layerReceivers);
+  } else {
+    if (msaa > 1) frame.stats.msaaPlan = "not applied: the stochastic pass samples every pixel spp times";
+    drawGBuffer(raster_, scene, plan, frame);
+  }
   if (plan.stochasticPass) runStochasticPass(raster_, scene, plan, options, frame, layerReceivers);
   std::vector<raster::ImageFloat> visibility;
   if (!scene.areaLights.empty()) {

@@ -255,14 +255,16 @@ PYBIND11_MODULE(_penumbra, m) {
   m.def("aov_names", &pp::aovNames, "The buffers render() can return besides color and linear.");
   m.def(
       "render",
-      [](pp::PyScene& s, int width, int height, const std::string& shadow, py::handle params, int spp, int threads,
+      [](pp::PyScene& s, int width, int height, const std::string& shadow, py::handle params, int spp, int msaa,
+         int threads,
          std::vector<std::string> aov, double exposure, const std::string& tonemap, int64_t frame, bool stats,
          bool defaultLight, uint64_t maxMemory) {
         if (aov.size() == 1 && aov[0] == "all") aov = pp::aovNames();
-        return pp::render(s, {width, height, shadow, pp::paramList(params), spp, threads, std::move(aov), exposure,
-                              tonemap, frame, stats, defaultLight, maxMemory});
+        return pp::render(s, {width, height, shadow, pp::paramList(params), spp, msaa, threads, std::move(aov),
+                              exposure, tonemap, frame, stats, defaultLight, maxMemory});
       },
       "scene"_a, "width"_a = 640, "height"_a = 360, "shadow"_a = "pcss", "params"_a = py::none(), "spp"_a = 16,
+      "msaa"_a = 1,
       "threads"_a = 0, "aov"_a = std::vector<std::string>{}, "exposure"_a = 0.0, "tonemap"_a = "none", "frame"_a = 0,
       "stats"_a = false, "default_light"_a = true, "max_memory"_a = 0,
       "Renders `scene` (the GIL released meanwhile) and returns a dict of arrays, rows top to bottom:\n"
@@ -273,6 +275,8 @@ PYBIND11_MODULE(_penumbra, m) {
       "  H x W, -1 there; with stats=True also 'stats', the frame plan as text.\n"
       "shadow: a technique of techniques(), 'reference' (ray traced) or 'none'; params: {name: value}.\n"
       "spp: samples per pixel of the stochastic pass (motion blur, depth of field). threads: 0 = all.\n"
+      "msaa: 1, 2, 4 or 8 samples per pixel for the G-buffer (antialiased edges; the AOVs are those of\n"
+      "  each pixel's largest surface).\n"
       "default_light: a scene without lights gets the key light and sky `penumbra render` gives it.\n"
       "max_memory: bytes the frame may take (0: what is available); more is refused before any work.");
   m.def("write_image", &pp::writeImageArray, "path"_a, "image"_a,

@@ -70,6 +70,7 @@ engine::RenderOptions renderOptions(const PyScene& s, const RenderArgs& a) {
   o.shadow = a.shadow;
   o.shadowParams = a.params;
   o.spp = a.spp;
+  o.msaa = a.msaa;
   o.exposure = a.exposure;
   o.frame = a.frame;
   if (!engine::parseToneMap(a.tonemap, o.toneMap)) raise("option tonemap: expected 'none' or 'aces', got '" + a.tonemap + "'");

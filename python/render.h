@@ -31,6 +31,7 @@ struct RenderArgs {
   std::string shadow = "pcss";
   std::vector<std::string> params;  // "name=value"
   int spp = 16;
+  int msaa = 1;
   int threads = 0;
   std::vector<std::string> aov;     // buffer names (aov_names())
   double exposure = 0.0;

@@ -25,6 +25,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 
 namespace penumbra::raster {
 
@@ -47,6 +48,29 @@ inline constexpr int kMaxTargetSize = 16384;
 // Blocks are 8x8 pixels (one 64-bit coverage mask); tiles are 2^tileLog2 pixels square.
 inline constexpr int kBlockLog2 = 3;
 inline constexpr int kBlockSize = 1 << kBlockLog2;
+
+// Multisampling: 1, 2, 4 or 8 samples per pixel at the standard positions (those of D3D 10.1 and
+// Vulkan's standard sample locations), offsets from the pixel centre in 1/16 pixel, y down. In
+// fixed point they are multiples of 16 (exact with 8 sub-pixel bits): sample s of pixel (i, j)
+// lies at (256 i + 16 dx_s, 256 j + 16 dy_s), and a sample on an edge is owned by the top-left rule
+// exactly as a pixel centre is, so closed meshes cover every sample once.
+struct SampleOffset {
+  int8_t dx, dy;  // 1/16 pixel
+};
+inline constexpr SampleOffset kSamples1[] = {{0, 0}};
+inline constexpr SampleOffset kSamples2[] = {{4, 4}, {-4, -4}};
+inline constexpr SampleOffset kSamples4[] = {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};
+inline constexpr SampleOffset kSamples8[] = {{1, -3}, {-1, 3}, {5, 1}, {-3, -5}, {-5, 5}, {-7, -1}, {3, 7}, {7, -7}};
+inline constexpr int kMaxSamples = 8;
+inline constexpr bool isSampleCount(int n) { return n == 1 || n == 2 || n == 4 || n == 8; }
+// The pattern of n samples (isSampleCount(n)); empty otherwise.
+inline constexpr std::span<const SampleOffset> samplePattern(int n) {
+  return n == 1 ? std::span<const SampleOffset>(kSamples1)
+         : n == 2 ? std::span<const SampleOffset>(kSamples2)
+         : n == 4 ? std::span<const SampleOffset>(kSamples4)
+         : n == 8 ? std::span<const SampleOffset>(kSamples8)
+                  : std::span<const SampleOffset>();
+}
 
 enum class CullMode : uint8_t { None, Back, Front };
 enum class DepthFunc : uint8_t { Less, Greater, Always };

@@ -32,6 +32,8 @@ struct Fragment {
   bool frontFacing;
   float b0, b1, b2;      // perspective-correct barycentrics of the submitted vertices 0, 1, 2
   const float* varyings; // DrawDesc::varyings floats, perspective-correct
+  int sample = 0;        // multisampled draws (Rasterizer::drawSamples): the sample, at whose
+                         // position coverage, depth, barycentrics and varyings are evaluated
 };
 
 // One tile's work as the tile stage leaves it: the tile's triangles in submission order (and the

@@ -36,9 +36,18 @@ void Rasterizer::clear(DepthTarget& depth, float value) {
   arena_.execute([&] { depth.clear(value); });
 }
 
-void Rasterizer::runBatches(const DrawDesc& desc, DepthTarget& depth, bool wantAttrs, FragmentSink sink, void* user,
-                            PassStats& stats) {
-  const Viewport vp{depth.width(), depth.height()};
+void Rasterizer::reproject(const Viewport& vp) {
+  const GuardPlanes guard = guardPlanes(vp);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, clip_.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const glm::vec4& c = clip_[i];
+      screen_[i] = projectVertex(c.x, c.y, c.z, c.w, vp, guard);
+    }
+  });
+}
+
+void Rasterizer::runBatches(const DrawDesc& desc, DepthTarget& depth, const Viewport& vp, bool wantAttrs,
+                            FragmentSink sink, void* user, PassStats& stats) {
   grid_ = tileGrid(vp.width, vp.height);
   tileStats_.assign(grid_.count(), PassStats{});
   const uint64_t triCount = desc.indices.empty() ? desc.vertexCount / 3 : desc.indices.size() / 3;

@@ -32,6 +32,7 @@
 #include <cstdint>
 #include <glm/vec4.hpp>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "raster/assemble.h"
@@ -96,6 +97,15 @@ class Rasterizer {
   template <class VS, class FS>
   PassStats draw(const DrawDesc& desc, DepthTarget& depth, VS&& vs, FS&& fs);
 
+  // Multisampled full pass: depth.size() samples per pixel (1, 2, 4 or 8, at samplePattern's
+  // positions), one depth target per sample, all of one size. The vertex stage runs once; then each
+  // sample's pass sets up, bins and rasterizes the triangles moved by minus its offset (Viewport::
+  // sampleX), so its coverage, depth test and fragments are exact at the sample position. fs gets
+  // Fragment::sample; for one sample this is draw(). The stats are those of every sample's pass
+  // summed (triangles counted once per sample).
+  template <class VS, class FS>
+  PassStats drawSamples(const DrawDesc& desc, std::span<DepthTarget> depth, VS&& vs, FS&& fs);
+
  private:
   using Clock = std::chrono::steady_clock;
   using FragmentSink = void (*)(void* user, uint32_t tile, const TileWork& work, const Rasterizer& self);
@@ -109,8 +119,10 @@ class Rasterizer {
   // Tile stage of what frontEnd binned; per-tile counters accumulate in tileStats_.
   void tileStage(const DrawDesc& desc, DepthTarget& depth, FragmentSink sink, void* user);
   // Front end and tile stage, batch after batch, and the stats of both.
-  void runBatches(const DrawDesc& desc, DepthTarget& depth, bool wantAttrs, FragmentSink sink, void* user,
-                  PassStats& stats);
+  void runBatches(const DrawDesc& desc, DepthTarget& depth, const Viewport& vp, bool wantAttrs, FragmentSink sink,
+                  void* user, PassStats& stats);
+  // The vertex stage's screen positions again for another sample's viewport (same flags).
+  void reproject(const Viewport& vp);
   template <class FS>
   static void shadeTile(void* user, uint32_t tile, const TileWork& work, const Rasterizer& self);
   static double ms(Clock::time_point a, Clock::time_point b) {
@@ -171,7 +183,7 @@ PassStats Rasterizer::drawDepth(const DrawDesc& desc, DepthTarget& depth, VS&& v
     nv_ = 0;
     vertexStage<VS, false>(desc.vertexCount, 0, vs, vp, stats);
     const auto t1 = Clock::now();
-    runBatches(desc, depth, false, nullptr, nullptr, stats);
+    runBatches(desc, depth, vp, false, nullptr, nullptr, stats);
     stats.msVertex = ms(t0, t1);
     stats.msTotal = ms(t0, Clock::now());
   });
@@ -189,8 +201,46 @@ PassStats Rasterizer::draw(const DrawDesc& desc, DepthTarget& depth, VS&& vs, FS
     vertexStage<VS, true>(desc.vertexCount, nv_, vs, vp, stats);
     const auto t1 = Clock::now();
     using F = std::remove_reference_t<FS>;
-    runBatches(desc, depth, true, &Rasterizer::shadeTile<F>, const_cast<void*>(static_cast<const void*>(&fs)), stats);
+    runBatches(desc, depth, vp, true, &Rasterizer::shadeTile<F>, const_cast<void*>(static_cast<const void*>(&fs)),
+               stats);
     stats.msVertex = ms(t0, t1);
+    stats.msTotal = ms(t0, Clock::now());
+  });
+  return stats;
+}
+
+template <class VS, class FS>
+PassStats Rasterizer::drawSamples(const DrawDesc& desc, std::span<DepthTarget> depth, VS&& vs, FS&& fs) {
+  const int n = static_cast<int>(depth.size());
+  if (!isSampleCount(n)) throw std::invalid_argument("drawSamples: 1, 2, 4 or 8 depth targets (one per sample)");
+  for (const DepthTarget& d : depth) {
+    checkDraw(desc, d);
+    if (d.width() != depth[0].width() || d.height() != depth[0].height())
+      throw std::invalid_argument("drawSamples: the sample targets differ in size");
+  }
+  if (n == 1) return draw(desc, depth[0], std::forward<VS>(vs), std::forward<FS>(fs));
+  PassStats stats;
+  arena_.execute([&] {
+    const auto t0 = Clock::now();
+    const std::span<const SampleOffset> pattern = samplePattern(n);
+    const auto viewport = [&](int s) {
+      const SampleOffset o = pattern[static_cast<size_t>(s)];
+      return Viewport{depth[0].width(), depth[0].height(), o.dx * (kSubpixelOne / 16), o.dy * (kSubpixelOne / 16)};
+    };
+    nv_ = desc.varyings;
+    vertexStage<VS, true>(desc.vertexCount, nv_, vs, viewport(0), stats);
+    stats.msVertex = ms(t0, Clock::now());
+    for (int s = 0; s < n; ++s) {
+      if (s > 0) reproject(viewport(s));
+      const auto withSample = [&fs, s](const Fragment& f) {
+        Fragment g = f;
+        g.sample = s;
+        fs(g);
+      };
+      using W = decltype(withSample);
+      runBatches(desc, depth[static_cast<size_t>(s)], viewport(s), true, &Rasterizer::shadeTile<const W>,
+                 const_cast<void*>(static_cast<const void*>(&withSample)), stats);
+    }
     stats.msTotal = ms(t0, Clock::now());
   });
   return stats;

@@ -36,14 +36,14 @@ bool insideEdge(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t px, int6
 
 }  // namespace
 
-void coverage(const SnappedTriangle& t, int width, int height, std::vector<uint32_t>& count) {
+void coverage(const SnappedTriangle& t, int width, int height, std::vector<uint32_t>& count, int dx16, int dy16) {
   const int64_t area = (t.x[1] - t.x[0]) * (t.y[2] - t.y[0]) - (t.y[1] - t.y[0]) * (t.x[2] - t.x[0]);
   if (area == 0) return;
   int a = 0, b = 1, c = 2;
   if (area < 0) std::swap(b, c);
   for (int j = 0; j < height; ++j) {
     for (int i = 0; i < width; ++i) {
-      const int64_t px = int64_t{i} * 256, py = int64_t{j} * 256;
+      const int64_t px = int64_t{i} * 256 + int64_t{dx16} * 16, py = int64_t{j} * 256 + int64_t{dy16} * 16;
       if (insideEdge(t.x[a], t.y[a], t.x[b], t.y[b], px, py) && insideEdge(t.x[b], t.y[b], t.x[c], t.y[c], px, py) &&
           insideEdge(t.x[c], t.y[c], t.x[a], t.y[a], px, py))
         ++count[static_cast<size_t>(j) * static_cast<size_t>(width) + static_cast<size_t>(i)];

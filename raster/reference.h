@@ -21,7 +21,10 @@ SnappedTriangle snap(const glm::vec4 clip[3], int width, int height);
 
 // Coverage of the snapped triangle at every pixel centre, top-left rule, either orientation:
 // adds 1 to count[y * width + x] for each covered pixel. Zero-area triangles cover nothing.
-void coverage(const SnappedTriangle& t, int width, int height, std::vector<uint32_t>& count);
+// With a sample offset (dx16, dy16 in 1/16 pixel, conventions.h's sample patterns) the point
+// tested is the pixel centre plus that offset instead.
+void coverage(const SnappedTriangle& t, int width, int height, std::vector<uint32_t>& count, int dx16 = 0,
+              int dy16 = 0);
 
 // Coverage decided in homogeneous coordinates, without clipping or division (2D homogeneous
 // rasterization, Olano and Greer 1997): the sample (sx, sy) in NDC is inside when the three edge

@@ -22,8 +22,8 @@ void snapXY(ScreenVert& s, double wd, double x, double y, const Viewport& vp, bo
     sx = std::clamp(sx, -kGuardBandPixels, kGuardBandPixels);
     sy = std::clamp(sy, -kGuardBandPixels, kGuardBandPixels);
   }
-  s.x = static_cast<int32_t>(std::lrint(sx * kSubpixelOne - kSubpixelOne / 2));
-  s.y = static_cast<int32_t>(std::lrint(sy * kSubpixelOne - kSubpixelOne / 2));
+  s.x = static_cast<int32_t>(std::lrint(sx * kSubpixelOne - kSubpixelOne / 2)) - vp.sampleX;
+  s.y = static_cast<int32_t>(std::lrint(sy * kSubpixelOne - kSubpixelOne / 2)) - vp.sampleY;
 }
 
 ScreenVert snapScreen(double wd, double x, double y, double z, const Viewport& vp, bool clamp) {

@@ -27,6 +27,11 @@ enum VertexFlags : uint32_t {
 
 struct Viewport {
   int width = 0, height = 0;
+  // Multisampling: the sample's offset from the pixel centre in fixed point (samplePattern). Every
+  // snapped vertex is moved by minus this, exactly (integers), so the pixel centres of the moved
+  // triangle are the sample positions of the original: per sample the same exact coverage, fill
+  // rule and depth plane as at pixel centres.
+  int32_t sampleX = 0, sampleY = 0;
 };
 
 // A vertex after the vertex stage: snapped screen position (valid when no kNeedsClip/kNonFinite

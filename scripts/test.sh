@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing (Debian 12 packages), builds everything and runs the whole test suite:
-#   1. Release build, all tests (labels: unit, cli, python, package), the Python module installed
-#      for the user;
+#   1. Release build, all tests (labels: unit, cli, python, package, browser), the Python module
+#      installed for the user;
 #   2. AddressSanitizer + UndefinedBehaviorSanitizer build of everything, all tests again (the CLI
 #      tests then run the sanitized `penumbra` binary).
 #   3. the fuzz targets of tests/fuzz (clang's libFuzzer, ASan + UBSan), 20 s each from the seed
@@ -9,7 +9,7 @@
 # Set PENUMBRA_SKIP_SANITIZE=1 to run only the first part, PENUMBRA_SKIP_FUZZ=1 to skip the third.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh
+scripts/install-deps.sh --browser
 jobs=${PENUMBRA_JOBS:-2}
 
 echo "== Release build and tests"

@@ -249,3 +249,16 @@ def test_write_image(tmp_path):
     with pytest.raises(penumbra.Error):
         penumbra.write_image(str(tmp_path / "no-such-dir" / "d.png"), img)
     assert not (tmp_path / "no-such-dir").exists()
+
+
+def test_msaa_smooths_edges(ball_scene):
+    one = penumbra.render(ball_scene, 96, 64, shadow="none", msaa=1)["linear"]
+    eight = penumbra.render(ball_scene, 96, 64, shadow="none", msaa=8, threads=1)["linear"]
+    again = penumbra.render(ball_scene, 96, 64, shadow="none", msaa=8, threads=3)["linear"]
+    assert np.array_equal(eight, again)
+    # Partly covered pixels on the silhouette against the sky: alpha strictly between 0 and 1.
+    assert set(np.unique(one[..., 3])) <= {0.0, 1.0}
+    partial = (eight[..., 3] > 0) & (eight[..., 3] < 1)
+    assert partial.sum() > 20
+    with pytest.raises(penumbra.Error, match="--msaa"):
+        penumbra.render(ball_scene, 16, 16, msaa=3)
