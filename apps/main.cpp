@@ -55,6 +55,69 @@ void printError(const std::string& line, const char* hint = "") {
   std::fprintf(stderr, "%spenumbra: error: %s%s\n", isatty(STDERR_FILENO) ? "\r\033[K" : "", line.c_str(), hint);
 }
 
+// The render subcommand and its options, filling `a`.
+CLI::App* addRenderCommand(CLI::App& app, RenderArgs& a) {
+  CLI::App* r = app.add_subcommand("render", "Render a scene (file or built-in) to an image");
+  r->add_option("scene", a.scene, "Scene file: .json (scene format), .gltf or .glb");
+  r->add_option("--builtin", a.builtin, "Built-in scene name (default: " + std::string(engine::kDefaultScene) + ")");
+  r->add_flag("--list-builtins", a.listBuiltins, "List the built-in scenes and exit");
+  r->add_option("-o,--output", a.output, "Output PNG path (default: <scene name>.png)");
+  r->add_option("--exr", a.exr, "Also write the linear image as OpenEXR to this path");
+  r->add_option("--aov", a.aov,
+                "Also write buffers as float OpenEXR: a comma list of visibility, depth, position, normal, "
+                "geometric-normal, albedo, instance, triangle, barycentrics (NaN where there is no receiver)");
+  r->add_option("--aov-out", a.aovOut, "Path prefix of the --aov files: PREFIX.<buffer>.exr");
+  r->add_option("--width", a.width, "Image width in pixels " + engine::kWidthOption.range());
+  r->add_option("--height", a.height, "Image height in pixels " + engine::kHeightOption.range());
+  r->add_option("--threads", a.threads, "Worker threads " + engine::kThreadsOption.range() + " (0 = all cores)");
+  r->add_option("--eye", a.eye, "Camera position X,Y,Z");
+  r->add_option("--target", a.target, "Camera target X,Y,Z");
+  r->add_option("--fov", a.fov, "Vertical field of view in degrees " + engine::kFovOption.range());
+  r->add_flag("--stats", a.stats, "Print the frame plan: what each pass did and skipped");
+  r->add_option("--shadow", a.shadow,
+                "Soft-shadow technique for the area lights (default pcss; 'reference' = ray-traced ground truth; "
+                "'none'; see --list-shadows)");
+  r->add_option("--param", a.params, "Technique parameter name=value (repeatable)");
+  r->add_option("--cache", a.cache, "Folder caching the ground truth between runs (default: none)");
+  r->add_flag("--list-shadows", a.listShadows, "List the shadow techniques and their parameters and exit");
+  r->add_flag("--points", a.points,
+              "Draw a point cloud with the point splatter instead of triangles (from the scene or --points-file)");
+  r->add_option("--point-count", a.pointCount,
+                "Points sampled from the scene's surfaces [1, 2^26] (default 2000000)");
+  r->add_option("--points-file", a.pointsFile,
+                "Text file of points, one 'x y z' or 'x y z r g b' (0..255) per line; camera fitted to them "
+                "unless a scene is named");
+
+  r->add_option("--msaa", a.msaa,
+                "Multisample antialiasing: samples per pixel of the G-buffer pass, " + engine::kMsaaOption.range() +
+                    " (default 1; a stochastic pass antialiases by its own samples)");
+  r->add_option("--spp", a.spp,
+                "Samples per pixel of the stochastic pass (motion blur, depth of field) " + engine::kSppOption.range());
+  r->add_option("--bounds", a.bounds, "Stochastic bounding method: box, interval or dual (default dual)");
+  r->add_option("--strata", a.strata,
+                "Interval bounds: time strata T " + engine::kTimeStrataOption.range() + " or T,L with L lens cells per axis " +
+                    engine::kLensStrataOption.range());
+  r->add_option("--dual-block", a.dualBlock,
+                "Dual-space bounds: pixel block side, " + engine::kDualBlockOption.range() + " (default 4)");
+  r->add_option("--frame", a.frame, "Frame number seeding the sample pattern " + engine::kFrameOption.range());
+  r->add_flag("--no-static-path", a.noStaticPath,
+              "Send static instances through the stochastic pass too (to measure what the ordinary path saves)");
+  r->add_option("--aperture", a.aperture,
+                "Lens aperture radius in world units " + engine::kApertureOption.range() + " (0 = pinhole; default: the scene's)");
+  r->add_flag("--no-default-light", a.noDefaultLight,
+              "Leave a scene without lights unlit (by default it gets a key area light and a sky ambient)");
+  r->add_option("--exposure", a.exposure,
+                "Exposure of the PNG in stops " + engine::kExposureOption.range() + " (default 0; the EXR keeps radiance)");
+  r->add_option("--tonemap", a.toneMap, "Tone map of the PNG: none (clamp, default) or aces (filmic roll-off)");
+  r->add_option("--max-memory", a.maxMemory,
+                "Refuse a frame estimated to need more memory than this (e.g. 8G, 512M; default: what the machine has "
+                "available now)");
+  r->add_flag("--allow-outside-paths", a.allowOutsidePaths,
+              "Let scene and glTF files name files outside their own folder (absolute or ../ paths)");
+  r->add_option("--focus", a.focus, "Focus distance in world units " + engine::kFocusOption.range() + " (default: the scene's)");
+  return r;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -65,64 +128,7 @@ int main(int argc, char** argv) {
   app.set_help_all_flag("--help-all", "Show help for all subcommands");
 
   RenderArgs render;
-  CLI::App* r = app.add_subcommand("render", "Render a scene (file or built-in) to an image");
-  r->add_option("scene", render.scene, "Scene file: .json (scene format), .gltf or .glb");
-  r->add_option("--builtin", render.builtin, "Built-in scene name (default: " + std::string(engine::kDefaultScene) + ")");
-  r->add_flag("--list-builtins", render.listBuiltins, "List the built-in scenes and exit");
-  r->add_option("-o,--output", render.output, "Output PNG path (default: <scene name>.png)");
-  r->add_option("--exr", render.exr, "Also write the linear image as OpenEXR to this path");
-  r->add_option("--aov", render.aov,
-                "Also write buffers as float OpenEXR: a comma list of visibility, depth, position, normal, "
-                "geometric-normal, albedo, instance, triangle, barycentrics (NaN where there is no receiver)");
-  r->add_option("--aov-out", render.aovOut, "Path prefix of the --aov files: PREFIX.<buffer>.exr");
-  r->add_option("--width", render.width, "Image width in pixels " + engine::kWidthOption.range());
-  r->add_option("--height", render.height, "Image height in pixels " + engine::kHeightOption.range());
-  r->add_option("--threads", render.threads, "Worker threads " + engine::kThreadsOption.range() + " (0 = all cores)");
-  r->add_option("--eye", render.eye, "Camera position X,Y,Z");
-  r->add_option("--target", render.target, "Camera target X,Y,Z");
-  r->add_option("--fov", render.fov, "Vertical field of view in degrees " + engine::kFovOption.range());
-  r->add_flag("--stats", render.stats, "Print the frame plan: what each pass did and skipped");
-  r->add_option("--shadow", render.shadow,
-                "Soft-shadow technique for the area lights (default pcss; 'reference' = ray-traced ground truth; "
-                "'none'; see --list-shadows)");
-  r->add_option("--param", render.params, "Technique parameter name=value (repeatable)");
-  r->add_option("--cache", render.cache, "Folder caching the ground truth between runs (default: none)");
-  r->add_flag("--list-shadows", render.listShadows, "List the shadow techniques and their parameters and exit");
-  r->add_flag("--points", render.points,
-              "Draw a point cloud with the point splatter instead of triangles (from the scene or --points-file)");
-  r->add_option("--point-count", render.pointCount,
-                "Points sampled from the scene's surfaces [1, 2^26] (default 2000000)");
-  r->add_option("--points-file", render.pointsFile,
-                "Text file of points, one 'x y z' or 'x y z r g b' (0..255) per line; camera fitted to them "
-                "unless a scene is named");
-
-  r->add_option("--msaa", render.msaa,
-                "Multisample antialiasing: samples per pixel of the G-buffer pass, " + engine::kMsaaOption.range() +
-                    " (default 1; a stochastic pass antialiases by its own samples)");
-  r->add_option("--spp", render.spp,
-                "Samples per pixel of the stochastic pass (motion blur, depth of field) " + engine::kSppOption.range());
-  r->add_option("--bounds", render.bounds, "Stochastic bounding method: box, interval or dual (default dual)");
-  r->add_option("--strata", render.strata,
-                "Interval bounds: time strata T " + engine::kTimeStrataOption.range() + " or T,L with L lens cells per axis " +
-                    engine::kLensStrataOption.range());
-  r->add_option("--dual-block", render.dualBlock,
-                "Dual-space bounds: pixel block side, " + engine::kDualBlockOption.range() + " (default 4)");
-  r->add_option("--frame", render.frame, "Frame number seeding the sample pattern " + engine::kFrameOption.range());
-  r->add_flag("--no-static-path", render.noStaticPath,
-              "Send static instances through the stochastic pass too (to measure what the ordinary path saves)");
-  r->add_option("--aperture", render.aperture,
-                "Lens aperture radius in world units " + engine::kApertureOption.range() + " (0 = pinhole; default: the scene's)");
-  r->add_flag("--no-default-light", render.noDefaultLight,
-              "Leave a scene without lights unlit (by default it gets a key area light and a sky ambient)");
-  r->add_option("--exposure", render.exposure,
-                "Exposure of the PNG in stops " + engine::kExposureOption.range() + " (default 0; the EXR keeps radiance)");
-  r->add_option("--tonemap", render.toneMap, "Tone map of the PNG: none (clamp, default) or aces (filmic roll-off)");
-  r->add_option("--max-memory", render.maxMemory,
-                "Refuse a frame estimated to need more memory than this (e.g. 8G, 512M; default: what the machine has "
-                "available now)");
-  r->add_flag("--allow-outside-paths", render.allowOutsidePaths,
-              "Let scene and glTF files name files outside their own folder (absolute or ../ paths)");
-  r->add_option("--focus", render.focus, "Focus distance in world units " + engine::kFocusOption.range() + " (default: the scene's)");
+  CLI::App* r = addRenderCommand(app, render);
 
   BenchRasterArgs bench;
   CLI::App* b = app.add_subcommand("bench", "Benchmarks");
