@@ -187,18 +187,6 @@ struct MsaaW2 {
   }
 };
 
-// The sample order nearest the pixel centre first.
-std::vector<int> nearestFirst(int samples) {
-  const std::span<const raster::SampleOffset> p = raster::samplePattern(samples);
-  std::vector<int> order(static_cast<size_t>(samples));
-  for (int s = 0; s < samples; ++s) order[static_cast<size_t>(s)] = s;
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    const raster::SampleOffset oa = p[static_cast<size_t>(a)], ob = p[static_cast<size_t>(b)];
-    return oa.dx * oa.dx + oa.dy * oa.dy < ob.dx * ob.dx + ob.dy * ob.dy;
-  });
-  return order;
-}
-
 // W2's image at width x height with `samples` samples (1: the ordinary pass at pixel centres, as
 // runWorkload shades it), linear RGB and coverage per pixel.
 std::vector<glm::vec4> w2Linear(const engine::Mesh& mesh, int width, int height, int samples, int threads) {
@@ -208,10 +196,11 @@ std::vector<glm::vec4> w2Linear(const engine::Mesh& mesh, int width, int height,
   raster::Rasterizer rast({.threads = threads});
   MsaaW2 m{rast, mesh, mvp, light, width, height, samples, {}, {}, {}};
   m.draw();
-  const std::vector<int> order = nearestFirst(samples);
+  const std::array<int, raster::kMaxSamples> order = raster::samplesNearestFirst(samples);
   std::vector<glm::vec4> out(static_cast<size_t>(width) * static_cast<size_t>(height));
   for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) out[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)] = m.resolve(x, y, order.data());
+    for (int x = 0; x < width; ++x)
+      out[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)] = m.resolve(x, y, order.data());
   return out;
 }
 
@@ -225,7 +214,7 @@ WorkloadResult runW2Multisample(const std::string& meshName, const engine::Mesh&
   raster::Rasterizer rast({.threads = threads});
   MsaaW2 m{rast, mesh, mvp, light, 1920, 1080, samples, {}, {}, {}};
   raster::ImageRgba8 color(1920, 1080);
-  const std::vector<int> order = nearestFirst(samples);
+  const std::array<int, raster::kMaxSamples> order = raster::samplesNearestFirst(samples);
   raster::PassStats last;
   WorkloadResult r = timeFrames(
       [&] {

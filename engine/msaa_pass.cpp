@@ -18,17 +18,6 @@ struct SampleHit {
   float b0 = 0, b1 = 0, b2 = 0;
 };
 
-// The sample order a layer's representative is chosen in: nearest the pixel centre first.
-std::array<int, raster::kMaxSamples> nearestFirst(int samples) {
-  const std::span<const raster::SampleOffset> p = raster::samplePattern(samples);
-  std::array<int, raster::kMaxSamples> order{};
-  for (int s = 0; s < samples; ++s) order[static_cast<size_t>(s)] = s;
-  const auto d2 = [&](int s) { return p[static_cast<size_t>(s)].dx * p[static_cast<size_t>(s)].dx +
-                                      p[static_cast<size_t>(s)].dy * p[static_cast<size_t>(s)].dy; };
-  std::stable_sort(order.begin(), order.begin() + samples, [&](int a, int b) { return d2(a) < d2(b); });
-  return order;
-}
-
 // The layers of one pixel from its samples: per triangle seen its count and representative
 // sample, largest count first (ties: the earlier instance, then the lower triangle), at most
 // kMaxLayers; the samples of a triangle beyond those join the first kept layer of the same instance
@@ -57,9 +46,11 @@ bool resolveSamples(const SampleHit* hits, int samples, const std::array<int, ra
       continue;
     }
     int i = 0;
-    while (i < groups && (g[static_cast<size_t>(i)].slot != h.slot || g[static_cast<size_t>(i)].primitive != h.primitive))
+    while (i < groups &&
+           (g[static_cast<size_t>(i)].slot != h.slot || g[static_cast<size_t>(i)].primitive != h.primitive))
       ++i;
-    if (i == groups) g[static_cast<size_t>(groups++)] = {h.slot, h.primitive, 0, s};  // the first seen is the nearest
+    if (i == groups)
+      g[static_cast<size_t>(groups++)] = {h.slot, h.primitive, 0, s};  // the first seen is the nearest
     ++g[static_cast<size_t>(i)].count;
   }
   // Insertion sort (at most 8 groups).
@@ -78,7 +69,8 @@ bool resolveSamples(const SampleHit* hits, int samples, const std::array<int, ra
   bool acrossInstances = false;
   for (int d = kept; d < groups; ++d) {
     int into = 0;
-    while (into < kept && rp.layer[into].surface != static_cast<uint32_t>(g[static_cast<size_t>(d)].slot)) ++into;
+    while (into < kept && rp.layer[into].surface != static_cast<uint32_t>(g[static_cast<size_t>(d)].slot))
+      ++into;
     if (into == kept) into = 0, acrossInstances = true;
     rp.layer[into].count = static_cast<uint16_t>(rp.layer[into].count + g[static_cast<size_t>(d)].count);
   }
@@ -86,11 +78,13 @@ bool resolveSamples(const SampleHit* hits, int samples, const std::array<int, ra
 }
 
 // The G-buffer texel of a sample, made as the ordinary pass makes one from its fragment.
-GBufferTexel sampleTexel(const InstanceShading& sh, const SampleHit& h, int x, int y, float t, const FramePlan& plan) {
+GBufferTexel sampleTexel(const InstanceShading& sh, const SampleHit& h, int x, int y, float t,
+                         const FramePlan& plan) {
   const Mesh& mesh = *sh.mesh;
   float v[3][kGbufferMaxVaryings];
   for (int k = 0; k < 3; ++k)
-    vertexVaryings(mesh, sh, mesh.indices[static_cast<size_t>(h.primitive) * 3 + static_cast<size_t>(k)], t, v[k]);
+    vertexVaryings(mesh, sh, mesh.indices[static_cast<size_t>(h.primitive) * 3 + static_cast<size_t>(k)], t,
+                   v[k]);
   float interp[kGbufferMaxVaryings];
   for (int c = 0; c < sh.varyings(); ++c) interp[c] = v[0][c] * h.b0 + v[1][c] * h.b1 + v[2][c] * h.b2;
   raster::Fragment f{};
@@ -103,8 +97,9 @@ GBufferTexel sampleTexel(const InstanceShading& sh, const SampleHit& h, int x, i
 
 }  // namespace
 
-void drawGBufferMultisample(raster::Rasterizer& raster, const Scene& scene, const FramePlan& plan, int samples,
-                            Frame& frame, std::vector<raster::Image<shadows::Receiver>>& layerReceivers) {
+void drawGBufferMultisample(raster::Rasterizer& raster, const Scene& scene, const FramePlan& plan,
+                            int samples, Frame& frame,
+                            std::vector<raster::Image<shadows::Receiver>>& layerReceivers) {
   const auto t0 = raster::Clock::now();
   FrameStats& st = frame.stats;
   const int w = plan.width, h = plan.height;
@@ -148,7 +143,7 @@ void drawGBufferMultisample(raster::Rasterizer& raster, const Scene& scene, cons
   frame.gbuffer.resize(w, h);
   frame.extraLayers.assign(static_cast<size_t>(kLayers - 1), raster::Image<GBufferTexel>(w, h));
   layerReceivers.assign(static_cast<size_t>(kLayers), raster::Image<shadows::Receiver>(w, h));
-  const std::array<int, raster::kMaxSamples> order = nearestFirst(samples);
+  const std::array<int, raster::kMaxSamples> order = raster::samplesNearestFirst(samples);
   st.msaaPixelsMerged = raster.run([&] {
     return tbb::parallel_reduce(
         tbb::blocked_range<int>(0, h, 8), size_t{0},
@@ -156,12 +151,14 @@ void drawGBufferMultisample(raster::Rasterizer& raster, const Scene& scene, cons
           for (int y = rows.begin(); y != rows.end(); ++y)
             for (int x = 0; x < w; ++x) {
               const SampleHit* px =
-                  &hits[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * static_cast<size_t>(samples)];
+                  &hits[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) *
+                        static_cast<size_t>(samples)];
               stochastic::ResolvedPixel& rp = frame.resolved.at(x, y);
               merged += resolveSamples(px, samples, order, rp) ? 1 : 0;
               for (int l = 0; l < rp.layers; ++l) {
                 const stochastic::ResolvedLayer& L = rp.layer[l];
-                GBufferTexel& g = l == 0 ? frame.gbuffer.at(x, y) : frame.extraLayers[static_cast<size_t>(l - 1)].at(x, y);
+                GBufferTexel& g =
+                    l == 0 ? frame.gbuffer.at(x, y) : frame.extraLayers[static_cast<size_t>(l - 1)].at(x, y);
                 g = sampleTexel(shading[L.surface], px[L.sample], x, y, shadeTime, plan);
                 layerReceivers[static_cast<size_t>(l)].at(x, y) = {g.position, g.geometricNormal, 1u};
               }

@@ -27,7 +27,8 @@ namespace penumbra::engine {
 
 // samples in {2, 4, 8}. Fills frame.depth (sample 0's), gbuffer (layer 0), extraLayers, resolved,
 // spp = samples, and the receivers of every layer.
-void drawGBufferMultisample(raster::Rasterizer& raster, const Scene& scene, const FramePlan& plan, int samples,
-                            Frame& frame, std::vector<raster::Image<shadows::Receiver>>& layerReceivers);
+void drawGBufferMultisample(raster::Rasterizer& raster, const Scene& scene, const FramePlan& plan,
+                            int samples, Frame& frame,
+                            std::vector<raster::Image<shadows::Receiver>>& layerReceivers);
 
 }  // namespace penumbra::engine

@@ -5,7 +5,9 @@
 
 namespace penumbra::python {
 
-void raise(const std::string& line) { throw PenumbraError(line); }
+void raise(const std::string& line) {
+  throw PenumbraError(line);
+}
 
 namespace {
 
@@ -60,15 +62,22 @@ std::vector<float> floatRows(py::handle h, int cols, const std::string& what) {
   return out;
 }
 
-std::vector<glm::vec2> vec2Rows(py::handle a, const std::string& what) { return rowsOf<glm::vec2, 2>(a, what); }
-std::vector<glm::vec3> vec3Rows(py::handle a, const std::string& what) { return rowsOf<glm::vec3, 3>(a, what); }
-std::vector<glm::vec4> vec4Rows(py::handle a, const std::string& what) { return rowsOf<glm::vec4, 4>(a, what); }
+std::vector<glm::vec2> vec2Rows(py::handle a, const std::string& what) {
+  return rowsOf<glm::vec2, 2>(a, what);
+}
+std::vector<glm::vec3> vec3Rows(py::handle a, const std::string& what) {
+  return rowsOf<glm::vec3, 3>(a, what);
+}
+std::vector<glm::vec4> vec4Rows(py::handle a, const std::string& what) {
+  return rowsOf<glm::vec4, 4>(a, what);
+}
 
 std::vector<uint32_t> triangleRows(py::handle h, size_t vertexCount, const std::string& what) {
   const py::array a = asArray(h, what);
   const char kind = a.dtype().kind();
   if (kind != 'i' && kind != 'u')
-    raise(what + ": expected integer indices (int32 or uint32), got dtype " + std::string(py::str(a.dtype())));
+    raise(what + ": expected integer indices (int32 or uint32), got dtype " +
+          std::string(py::str(a.dtype())));
   requireRows(a, 3, what);
   // Through int64 (uint64 beyond its range wraps negative and is refused like any negative).
   const auto i64 = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
@@ -77,8 +86,8 @@ std::vector<uint32_t> triangleRows(py::handle h, size_t vertexCount, const std::
   const int64_t* d = i64.data();
   for (size_t i = 0; i < out.size(); ++i) {
     if (d[i] < 0 || static_cast<uint64_t>(d[i]) >= vertexCount)
-      raise(what + ": triangle " + std::to_string(i / 3) + " has index " + std::to_string(d[i]) + ", out of range (" +
-            std::to_string(vertexCount) + " vertices)");
+      raise(what + ": triangle " + std::to_string(i / 3) + " has index " + std::to_string(d[i]) +
+            ", out of range (" + std::to_string(vertexCount) + " vertices)");
     out[i] = static_cast<uint32_t>(d[i]);
   }
   return out;
@@ -86,7 +95,8 @@ std::vector<uint32_t> triangleRows(py::handle h, size_t vertexCount, const std::
 
 glm::mat4 matrix4(py::handle h, const std::string& what) {
   const py::array a = asArray(h, what);
-  if (a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) raise(what + ": expected shape (4, 4), got " + shapeText(a));
+  if (a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4)
+    raise(what + ": expected shape (4, 4), got " + shapeText(a));
   const std::vector<float> f = floatRows(a, 4, what);
   glm::mat4 m;
   for (int r = 0; r < 4; ++r)
@@ -106,7 +116,8 @@ glm::vec4 colorValue(py::handle h, const std::string& what) {
   if (a.ndim() != 1 || (a.size() != 3 && a.size() != 4))
     raise(what + ": expected 3 or 4 numbers (RGB or RGBA), got shape " + shapeText(a));
   const py::ssize_t n = a.size();
-  const std::vector<float> f = floatRows(a.reshape(std::vector<py::ssize_t>{1, n}), static_cast<int>(n), what);
+  const std::vector<float> f =
+      floatRows(a.reshape(std::vector<py::ssize_t>{1, n}), static_cast<int>(n), what);
   return {f[0], f[1], f[2], n == 4 ? f[3] : 1.0f};
 }
 

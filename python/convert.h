@@ -28,7 +28,9 @@ struct PenumbraError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 [[noreturn]] void raise(const std::string& line);
-[[noreturn]] inline void raise(const engine::Error& e) { raise(e.line()); }
+[[noreturn]] inline void raise(const engine::Error& e) {
+  raise(e.line());
+}
 
 // An N x cols array of numbers (any float or integer dtype, converted to float32), every value
 // finite; N may be 0. `what` names the argument in errors ("vertices").

@@ -54,10 +54,11 @@ int addMesh(PyScene& s, py::handle vertices, py::handle triangles, py::handle no
   return mesh;
 }
 
-int addInstance(PyScene& s, int mesh, py::handle transform, py::handle transformClose, const std::string& name) {
+int addInstance(PyScene& s, int mesh, py::handle transform, py::handle transformClose,
+                const std::string& name) {
   if (mesh < 0 || mesh >= static_cast<int>(s.scene.meshes.size()))
-    raise("add_instance: mesh " + std::to_string(mesh) + " out of range (" + std::to_string(s.scene.meshes.size()) +
-          " meshes)");
+    raise("add_instance: mesh " + std::to_string(mesh) + " out of range (" +
+          std::to_string(s.scene.meshes.size()) + " meshes)");
   engine::Instance inst{.name = name, .mesh = mesh};
   if (!transform.is_none()) inst.transform = matrix4(transform, "transform");
   if (!transformClose.is_none()) inst.transformClose = matrix4(transformClose, "transform_close");
@@ -71,9 +72,11 @@ int addInstance(PyScene& s, int mesh, py::handle transform, py::handle transform
 // symmetric perspective projection with depth range "gl" ([-1, 1]) or "zero_to_one".
 void setCameraMatrices(PyScene& s, py::handle view, py::handle projection, const std::string& depth) {
   const glm::mat4 v = matrix4(view, "view"), p = matrix4(projection, "projection");
-  if (depth != "gl" && depth != "zero_to_one") raise("depth: expected 'gl' or 'zero_to_one', got '" + depth + "'");
+  if (depth != "gl" && depth != "zero_to_one")
+    raise("depth: expected 'gl' or 'zero_to_one', got '" + depth + "'");
   const glm::mat3 r(v);
-  if (std::abs(glm::determinant(r) - 1.0f) > 1e-3f) raise("view: expected a rigid transform (rotation and translation)");
+  if (std::abs(glm::determinant(r) - 1.0f) > 1e-3f)
+    raise("view: expected a rigid transform (rotation and translation)");
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (std::abs(glm::dot(r[i], r[j]) - (i == j ? 1.0f : 0.0f)) > 1e-3f)
@@ -83,7 +86,8 @@ void setCameraMatrices(PyScene& s, py::handle view, py::handle projection, const
                            p[1][3] == 0 && p[2][0] == 0 && p[2][1] == 0 && p[2][3] == -1.0f && p[3][0] == 0 &&
                            p[3][1] == 0 && p[3][3] == 0 && p[0][0] > 0 && p[1][1] > 0;
   if (!perspective)
-    raise("projection: expected a symmetric perspective projection (no skew, no off-centre, not orthographic)");
+    raise(
+        "projection: expected a symmetric perspective projection (no skew, no off-centre, not orthographic)");
   const glm::mat4 c = glm::inverse(v);
   engine::Camera cam;
   cam.eye = glm::vec3(c[3]);
@@ -92,7 +96,8 @@ void setCameraMatrices(PyScene& s, py::handle view, py::handle projection, const
   cam.fovYDegrees = static_cast<float>(2.0 * std::atan(1.0 / static_cast<double>(p[1][1])) * 180.0 / M_PI);
   const double a = p[2][2], b = p[3][2];
   const double n = depth == "gl" ? b / (a - 1.0) : b / a, f = depth == "gl" ? b / (a + 1.0) : b / (a + 1.0);
-  if (!(n > 0.0) || !std::isfinite(n) || !(f > n)) raise("projection: its near and far planes are not 0 < near < far");
+  if (!(n > 0.0) || !std::isfinite(n) || !(f > n))
+    raise("projection: its near and far planes are not 0 < near < far");
   cam.znear = static_cast<float>(n);
   cam.zfar = std::isfinite(f) ? static_cast<float>(f) : 0.0f;
   s.beginChange("set_camera_matrices");
@@ -105,7 +110,9 @@ py::list techniqueList() {
   for (const shadows::TechniqueInfo& t : shadows::registry()) {
     py::list params;
     for (const shadows::ParamSpec& p : t.params) {
-      const char* kind = p.kind == shadows::ParamKind::Int ? "int" : p.kind == shadows::ParamKind::Float ? "float" : "choice";
+      const char* kind = p.kind == shadows::ParamKind::Int     ? "int"
+                         : p.kind == shadows::ParamKind::Float ? "float"
+                                                               : "choice";
       py::dict d("name"_a = p.name, "kind"_a = kind, "help"_a = p.help);
       if (p.kind == shadows::ParamKind::Choice) {
         d["choices"] = p.choices;
@@ -126,7 +133,8 @@ std::vector<std::string> paramList(py::handle params) {
   if (py::isinstance<py::str>(params)) return {params.cast<std::string>()};
   if (py::isinstance<py::dict>(params)) {
     for (auto [k, v] : params.cast<py::dict>()) {
-      const std::string value = py::isinstance<py::bool_>(v) ? (v.cast<bool>() ? "1" : "0") : std::string(py::str(v));
+      const std::string value =
+          py::isinstance<py::bool_>(v) ? (v.cast<bool>() ? "1" : "0") : std::string(py::str(v));
       out.push_back(std::string(py::str(k)) + "=" + value);
     }
     return out;
@@ -135,7 +143,8 @@ std::vector<std::string> paramList(py::handle params) {
 }
 
 void bindScene(py::module_& m) {
-  py::class_<PyScene, std::shared_ptr<PyScene>>(m, "Scene", "A scene: meshes placed by instances, lights, a camera.")
+  py::class_<PyScene, std::shared_ptr<PyScene>>(m, "Scene",
+                                                "A scene: meshes placed by instances, lights, a camera.")
       .def(py::init([](const std::string& name) {
              auto s = std::make_shared<PyScene>();
              s->scene.name = name;
@@ -145,29 +154,38 @@ void bindScene(py::module_& m) {
       .def("add_mesh", &addMesh, "vertices"_a, "triangles"_a, "normals"_a = py::none(), "uvs"_a = py::none(),
            "colors"_a = py::none(), "color"_a = py::make_tuple(0.8, 0.8, 0.8), "transform"_a = py::none(),
            "name"_a = "", "place"_a = true,
-           "Adds a mesh (vertices N x 3, triangles M x 3 integer; optional per-vertex normals N x 3, uvs N x 2,\n"
+           "Adds a mesh (vertices N x 3, triangles M x 3 integer; optional per-vertex normals N x 3, uvs N x "
+           "2,\n"
            "linear RGB colors N x 3 multiplying `color`) and, unless place=False, one instance of it at\n"
            "`transform` (4 x 4, object to world). Returns the mesh index.")
-      .def("add_instance", &addInstance, "mesh"_a, "transform"_a = py::none(), "transform_close"_a = py::none(),
-           "name"_a = "",
-           "Places mesh `mesh` at `transform`; with `transform_close` it moves to that transform over the shutter\n"
+      .def("add_instance", &addInstance, "mesh"_a, "transform"_a = py::none(),
+           "transform_close"_a = py::none(), "name"_a = "",
+           "Places mesh `mesh` at `transform`; with `transform_close` it moves to that transform over the "
+           "shutter\n"
            "(motion blur). Returns the instance index.")
       .def(
           "set_camera",
           [](PyScene& s, py::handle eye, py::handle target, float fov, py::handle up, float znear, float zfar,
              float aperture, float focus) {
-            engine::Camera c{.eye = vec3Value(eye, "eye"), .target = vec3Value(target, "target"), .up = vec3Value(up, "up"),
-                             .fovYDegrees = fov, .znear = znear, .zfar = zfar, .apertureRadius = aperture,
+            engine::Camera c{.eye = vec3Value(eye, "eye"),
+                             .target = vec3Value(target, "target"),
+                             .up = vec3Value(up, "up"),
+                             .fovYDegrees = fov,
+                             .znear = znear,
+                             .zfar = zfar,
+                             .apertureRadius = aperture,
                              .focusDistance = focus};
             s.beginChange("set_camera");
             s.scene.camera = c;
             s.cameraAspect.reset();
           },
-          "eye"_a, "target"_a, "fov"_a = 45.0f, "up"_a = py::make_tuple(0, 1, 0), "near"_a = 0.0f, "far"_a = 0.0f,
-          "aperture"_a = 0.0f, "focus"_a = 0.0f,
-          "A perspective camera: vertical fov in degrees; near/far 0 fit the scene; aperture > 0 a thin lens.")
+          "eye"_a, "target"_a, "fov"_a = 45.0f, "up"_a = py::make_tuple(0, 1, 0), "near"_a = 0.0f,
+          "far"_a = 0.0f, "aperture"_a = 0.0f, "focus"_a = 0.0f,
+          "A perspective camera: vertical fov in degrees; near/far 0 fit the scene; aperture > 0 a thin "
+          "lens.")
       .def("set_camera_matrices", &setCameraMatrices, "view"_a, "projection"_a, "depth"_a = "gl",
-           "A camera from 4 x 4 view and projection matrices (symmetric perspective; depth 'gl' or 'zero_to_one').")
+           "A camera from 4 x 4 view and projection matrices (symmetric perspective; depth 'gl' or "
+           "'zero_to_one').")
       .def(
           "add_area_light",
           [](PyScene& s, py::handle center, py::handle facing, float width, float height, py::handle color,
@@ -190,15 +208,19 @@ void bindScene(py::module_& m) {
           [](PyScene& s, py::handle direction, py::handle color, float intensity) {
             const glm::vec3 d = vec3Value(direction, "direction");
             if (!(glm::length(d) > 0.0f)) raise("add_directional_light: direction is zero");
-            if (!(intensity >= 0.0f) || !std::isfinite(intensity)) raise("add_directional_light: intensity must be >= 0");
+            if (!(intensity >= 0.0f) || !std::isfinite(intensity))
+              raise("add_directional_light: intensity must be >= 0");
             s.beginChange("add_directional_light");
-            s.scene.directionalLights.push_back({glm::normalize(d), glm::vec3(colorValue(color, "color")), intensity});
+            s.scene.directionalLights.push_back(
+                {glm::normalize(d), glm::vec3(colorValue(color, "color")), intensity});
           },
-          "direction"_a, "color"_a = py::make_tuple(1, 1, 1), "intensity"_a = 1.0f, "An unshadowed directional light.")
+          "direction"_a, "color"_a = py::make_tuple(1, 1, 1), "intensity"_a = 1.0f,
+          "An unshadowed directional light.")
       .def(
           "add_point_light",
           [](PyScene& s, py::handle position, py::handle color, float intensity, float range) {
-            if (!(intensity >= 0.0f) || !std::isfinite(intensity)) raise("add_point_light: intensity must be >= 0");
+            if (!(intensity >= 0.0f) || !std::isfinite(intensity))
+              raise("add_point_light: intensity must be >= 0");
             if (!(range >= 0.0f) || !std::isfinite(range)) raise("add_point_light: range must be >= 0");
             s.beginChange("add_point_light");
             s.scene.pointLights.push_back(
@@ -217,14 +239,14 @@ void bindScene(py::module_& m) {
       .def_property_readonly("triangle_count", [](const PyScene& s) { return s.scene.triangleCount(); })
       .def_property_readonly("mesh_count", [](const PyScene& s) { return s.scene.meshes.size(); })
       .def_property_readonly("instance_count", [](const PyScene& s) { return s.scene.instances.size(); })
-      .def_property_readonly("area_light_count", [](const PyScene& s) {
-        return s.scene.defaultLighting ? size_t{0} : s.scene.areaLights.size();
-      })
+      .def_property_readonly(
+          "area_light_count",
+          [](const PyScene& s) { return s.scene.defaultLighting ? size_t{0} : s.scene.areaLights.size(); })
       .def_property_readonly("name", [](const PyScene& s) { return s.scene.name; })
       .def("__repr__", [](const PyScene& s) {
-        return "<penumbra.Scene '" + s.scene.name + "': " + std::to_string(s.scene.meshes.size()) + " meshes, " +
-               std::to_string(s.scene.instances.size()) + " instances, " + std::to_string(s.scene.triangleCount()) +
-               " triangles>";
+        return "<penumbra.Scene '" + s.scene.name + "': " + std::to_string(s.scene.meshes.size()) +
+               " meshes, " + std::to_string(s.scene.instances.size()) + " instances, " +
+               std::to_string(s.scene.triangleCount()) + " triangles>";
       });
 }
 
@@ -239,37 +261,43 @@ PYBIND11_MODULE(_penumbra, m) {
   m.attr("__version__") = penumbra::kVersion;
   py::register_exception<pp::PenumbraError>(m, "Error", PyExc_ValueError);
   pp::bindScene(m);
-  m.def("load", [](const std::string& path, bool allowOutsidePaths) {
-    return pp::wrap(penumbra::engine::loadScene(path, {.allowOutsidePaths = allowOutsidePaths}));
-  }, "path"_a, "allow_outside_paths"_a = false,
-        "Loads a glTF 2.0 file (.gltf, .glb) or a scene file (.json). Files it names must lie in its folder.");
-  m.def("builtin", [](const std::string& name) { return pp::wrap(penumbra::engine::makeBuiltinScene(name)); },
-        "name"_a, "A built-in scene (builtins() lists them).");
-  m.def("builtins", [] {
-    py::list out;
-    for (const auto& b : penumbra::engine::builtinScenes())
-      out.append(py::dict("name"_a = b.name, "description"_a = b.description));
-    return out;
-  }, "The built-in scenes: a list of {name, description}.");
+  m.def(
+      "load",
+      [](const std::string& path, bool allowOutsidePaths) {
+        return pp::wrap(penumbra::engine::loadScene(path, {.allowOutsidePaths = allowOutsidePaths}));
+      },
+      "path"_a, "allow_outside_paths"_a = false,
+      "Loads a glTF 2.0 file (.gltf, .glb) or a scene file (.json). Files it names must lie in its folder.");
+  m.def(
+      "builtin", [](const std::string& name) { return pp::wrap(penumbra::engine::makeBuiltinScene(name)); },
+      "name"_a, "A built-in scene (builtins() lists them).");
+  m.def(
+      "builtins",
+      [] {
+        py::list out;
+        for (const auto& b : penumbra::engine::builtinScenes())
+          out.append(py::dict("name"_a = b.name, "description"_a = b.description));
+        return out;
+      },
+      "The built-in scenes: a list of {name, description}.");
   m.def("techniques", &pp::techniqueList, "The shadow techniques and their parameters (ranges, defaults).");
   m.def("aov_names", &pp::aovNames, "The buffers render() can return besides color and linear.");
   m.def(
       "render",
-      [](pp::PyScene& s, int width, int height, const std::string& shadow, py::handle params, int spp, int msaa,
-         int threads,
-         std::vector<std::string> aov, double exposure, const std::string& tonemap, int64_t frame, bool stats,
-         bool defaultLight, uint64_t maxMemory) {
+      [](pp::PyScene& s, int width, int height, const std::string& shadow, py::handle params, int spp,
+         int msaa, int threads, std::vector<std::string> aov, double exposure, const std::string& tonemap,
+         int64_t frame, bool stats, bool defaultLight, uint64_t maxMemory) {
         if (aov.size() == 1 && aov[0] == "all") aov = pp::aovNames();
-        return pp::render(s, {width, height, shadow, pp::paramList(params), spp, msaa, threads, std::move(aov),
-                              exposure, tonemap, frame, stats, defaultLight, maxMemory});
+        return pp::render(s, {width, height, shadow, pp::paramList(params), spp, msaa, threads,
+                              std::move(aov), exposure, tonemap, frame, stats, defaultLight, maxMemory});
       },
-      "scene"_a, "width"_a = 640, "height"_a = 360, "shadow"_a = "pcss", "params"_a = py::none(), "spp"_a = 16,
-      "msaa"_a = 1,
-      "threads"_a = 0, "aov"_a = std::vector<std::string>{}, "exposure"_a = 0.0, "tonemap"_a = "none", "frame"_a = 0,
-      "stats"_a = false, "default_light"_a = true, "max_memory"_a = 0,
+      "scene"_a, "width"_a = 640, "height"_a = 360, "shadow"_a = "pcss", "params"_a = py::none(),
+      "spp"_a = 16, "msaa"_a = 1, "threads"_a = 0, "aov"_a = std::vector<std::string>{}, "exposure"_a = 0.0,
+      "tonemap"_a = "none", "frame"_a = 0, "stats"_a = false, "default_light"_a = true, "max_memory"_a = 0,
       "Renders `scene` (the GIL released meanwhile) and returns a dict of arrays, rows top to bottom:\n"
       "  color  H x W x 4 uint8 (sRGB), linear  H x W x 4 float32 (radiance, alpha = coverage),\n"
-      "  and each buffer named in `aov` (aov_names(); ['all'] for every one): visibility (and visibility_1, ...\n"
+      "  and each buffer named in `aov` (aov_names(); ['all'] for every one): visibility (and visibility_1, "
+      "...\n"
       "  for more area lights), depth (view distance), position, normal, geometric_normal, albedo,\n"
       "  barycentrics as float32 H x W (x 3), NaN where nothing was hit; instance and triangle as int32\n"
       "  H x W, -1 there; with stats=True also 'stats', the frame plan as text.\n"
@@ -280,14 +308,16 @@ PYBIND11_MODULE(_penumbra, m) {
       "default_light: a scene without lights gets the key light and sky `penumbra render` gives it.\n"
       "max_memory: bytes the frame may take (0: what is available); more is refused before any work.");
   m.def("write_image", &pp::writeImageArray, "path"_a, "image"_a,
-        "Writes uint8 H x W x 3/4 as PNG, float32 H x W (x 3/4) as OpenEXR (.exr); no partial file on failure.");
+        "Writes uint8 H x W x 3/4 as PNG, float32 H x W (x 3/4) as OpenEXR (.exr); no partial file on "
+        "failure.");
   m.def("reference_coverage", &pp::referenceCoverage, "triangle"_a, "width"_a, "height"_a,
         "The scalar reference rasterizer on one triangle (3 x 4 clip-space vertices, w > 0): per pixel how\n"
         "often its centre is covered (uint32 H x W), to check rasterize() against.");
-  m.def("rasterize", &pp::rasterize, "vertices_clip"_a, "triangles"_a, "width"_a, "height"_a, "cull"_a = "none",
-        "threads"_a = 0,
+  m.def("rasterize", &pp::rasterize, "vertices_clip"_a, "triangles"_a, "width"_a, "height"_a,
+        "cull"_a = "none", "threads"_a = 0,
         "The bare pipeline: clip-space vertices (N x 4, [-1, 1] x [-1, 1] x [0, 1] visible, y up) and\n"
         "triangles (M x 3) into a width x height target, depth test less, exact and watertight. Returns\n"
-        "triangle (int32 H x W, -1 where none), depth (z / w, float32, NaN where none), barycentrics (H x W x 3,\n"
+        "triangle (int32 H x W, -1 where none), depth (z / w, float32, NaN where none), barycentrics (H x W "
+        "x 3,\n"
         "perspective-correct, NaN where none), front_facing (bool) and stats (triangles culled, clipped).");
 }

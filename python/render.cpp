@@ -13,7 +13,8 @@
 namespace penumbra::python {
 
 void PyScene::beginChange(const char* what) {
-  if (rendering.load() != 0) raise(std::string(what) + ": the scene is being rendered (change it after render returns)");
+  if (rendering.load() != 0)
+    raise(std::string(what) + ": the scene is being rendered (change it after render returns)");
   validated = false;
   if (scene.defaultLighting) {  // re-derived from the new contents at the next render
     scene.areaLights.clear();
@@ -40,13 +41,15 @@ class RenderingScope {
 void prepareScene(PyScene& s, bool defaultLight) {
   if (!s.validated) {
     if (s.rendering.load() != 0) raise("render: the scene changed while another render of it runs");
-    if (engine::Status st = engine::validateScene(s.scene, s.scene.name.empty() ? "scene" : "scene '" + s.scene.name + "'");
+    if (engine::Status st =
+            engine::validateScene(s.scene, s.scene.name.empty() ? "scene" : "scene '" + s.scene.name + "'");
         !st)
       raise(st.error());
     s.validated = true;
   }
   if (defaultLight == s.scene.defaultLighting) return;
-  if (s.rendering.load() != 0) raise("render: default_light differs from a render of this scene still running");
+  if (s.rendering.load() != 0)
+    raise("render: default_light differs from a render of this scene still running");
   if (defaultLight) {
     s.userSky = s.scene.sky;
     engine::addDefaultLighting(s.scene);
@@ -73,7 +76,8 @@ engine::RenderOptions renderOptions(const PyScene& s, const RenderArgs& a) {
   o.msaa = a.msaa;
   o.exposure = a.exposure;
   o.frame = a.frame;
-  if (!engine::parseToneMap(a.tonemap, o.toneMap)) raise("option tonemap: expected 'none' or 'aces', got '" + a.tonemap + "'");
+  if (!engine::parseToneMap(a.tonemap, o.toneMap))
+    raise("option tonemap: expected 'none' or 'aces', got '" + a.tonemap + "'");
   return o;
 }
 
@@ -124,8 +128,8 @@ void addAov(py::dict& out, const engine::Frame& f, engine::Aov a) {
 }  // namespace
 
 std::vector<std::string> aovNames() {
-  const engine::Result<std::vector<engine::Aov>> all =
-      engine::parseAovList("visibility,depth,position,normal,geometric-normal,albedo,instance,triangle,barycentrics");
+  const engine::Result<std::vector<engine::Aov>> all = engine::parseAovList(
+      "visibility,depth,position,normal,geometric-normal,albedo,instance,triangle,barycentrics");
   std::vector<std::string> n;
   for (engine::Aov a : *all) n.push_back(pyName(a));
   return n;
@@ -136,7 +140,8 @@ py::dict render(PyScene& s, const RenderArgs& a) {
   const engine::RenderOptions options = renderOptions(s, a);
   engine::Result<engine::ResolvedOptions> resolved = engine::resolveOptions(options);
   if (!resolved) raise(resolved.error());
-  if (a.threads < 0 || a.threads > 1024) raise("option threads: must be in [0, 1024], got " + std::to_string(a.threads));
+  if (a.threads < 0 || a.threads > 1024)
+    raise("option threads: must be in [0, 1024], got " + std::to_string(a.threads));
   const std::vector<engine::Aov> aovs = parseAovs(a.aov);
   // The frame's peak and the arrays handed back (color 4 + linear 16 bytes, 12 per AOV per pixel).
   engine::MemoryEstimate memory = engine::estimateFrameMemory(s.scene, *resolved);
@@ -144,7 +149,8 @@ py::dict render(PyScene& s, const RenderArgs& a) {
   memory.parts.emplace_back("output arrays", pixels * (20 + 12 * aovs.size()));
   memory.bytes += memory.parts.back().second;
   const uint64_t limit = a.maxMemory ? a.maxMemory : engine::availableMemoryBytes();
-  if (engine::Status st = engine::checkMemory(memory, limit, "render", a.maxMemory ? "max_memory" : "the memory available");
+  if (engine::Status st =
+          engine::checkMemory(memory, limit, "render", a.maxMemory ? "max_memory" : "the memory available");
       !st)
     raise(st.error());
 
@@ -175,18 +181,24 @@ py::dict render(PyScene& s, const RenderArgs& a) {
   return out;
 }
 
-py::dict rasterize(py::handle verticesClip, py::handle triangles, int width, int height, const std::string& cull,
-                   int threads) {
+py::dict rasterize(py::handle verticesClip, py::handle triangles, int width, int height,
+                   const std::string& cull, int threads) {
   const std::vector<glm::vec4> clip = vec4Rows(verticesClip, "vertices_clip");
   const std::vector<uint32_t> indices = triangleRows(triangles, clip.size(), "triangles");
   if (engine::Status st = engine::kWidthOption.check(width); !st) raise("option width: " + st.error().what);
-  if (engine::Status st = engine::kHeightOption.check(height); !st) raise("option height: " + st.error().what);
-  if (threads < 0 || threads > 1024) raise("option threads: must be in [0, 1024], got " + std::to_string(threads));
+  if (engine::Status st = engine::kHeightOption.check(height); !st)
+    raise("option height: " + st.error().what);
+  if (threads < 0 || threads > 1024)
+    raise("option threads: must be in [0, 1024], got " + std::to_string(threads));
   raster::DrawDesc desc;
-  if (cull == "none") desc.cull = raster::CullMode::None;
-  else if (cull == "back") desc.cull = raster::CullMode::Back;
-  else if (cull == "front") desc.cull = raster::CullMode::Front;
-  else raise("option cull: expected 'none', 'back' or 'front', got '" + cull + "'");
+  if (cull == "none")
+    desc.cull = raster::CullMode::None;
+  else if (cull == "back")
+    desc.cull = raster::CullMode::Back;
+  else if (cull == "front")
+    desc.cull = raster::CullMode::Front;
+  else
+    raise("option cull: expected 'none', 'back' or 'front', got '" + cull + "'");
   desc.vertexCount = static_cast<uint32_t>(clip.size());
   desc.indices = indices;
   const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
@@ -200,14 +212,15 @@ py::dict rasterize(py::handle verticesClip, py::handle triangles, int width, int
     raster::DepthTarget target(width, height, 1.0f);
     // In submission order per tile after the depth test: the last write to a pixel is its nearest
     // triangle (the first of equal depths).
-    stats = r.draw(desc, target, [&](uint32_t i, float*) { return clip[i]; },
-                   [&](const raster::Fragment& f) {
-                     const size_t p = static_cast<size_t>(f.y) * static_cast<size_t>(width) + static_cast<size_t>(f.x);
-                     tri[p] = static_cast<int32_t>(f.primitive);
-                     depth[p] = f.depth;
-                     bary[3 * p] = f.b0, bary[3 * p + 1] = f.b1, bary[3 * p + 2] = f.b2;
-                     front[p] = f.frontFacing ? 1 : 0;
-                   });
+    stats = r.draw(
+        desc, target, [&](uint32_t i, float*) { return clip[i]; },
+        [&](const raster::Fragment& f) {
+          const size_t p = static_cast<size_t>(f.y) * static_cast<size_t>(width) + static_cast<size_t>(f.x);
+          tri[p] = static_cast<int32_t>(f.primitive);
+          depth[p] = f.depth;
+          bary[3 * p] = f.b0, bary[3 * p + 1] = f.b1, bary[3 * p + 2] = f.b2;
+          front[p] = f.frontFacing ? 1 : 0;
+        });
   }
   py::dict out;
   out["triangle"] = toArray(tri, {height, width});
@@ -232,7 +245,8 @@ py::array_t<uint32_t> referenceCoverage(py::handle triangle, int width, int heig
     if (!(c.w > 0.0f) || std::abs(c.x / c.w) > 2.0f || std::abs(c.y / c.w) > 2.0f)
       raise("triangle: the reference needs w > 0 and |x/w|, |y/w| <= 2");
   if (engine::Status st = engine::kWidthOption.check(width); !st) raise("option width: " + st.error().what);
-  if (engine::Status st = engine::kHeightOption.check(height); !st) raise("option height: " + st.error().what);
+  if (engine::Status st = engine::kHeightOption.check(height); !st)
+    raise("option height: " + st.error().what);
   std::vector<uint32_t> count(static_cast<size_t>(width) * static_cast<size_t>(height), 0);
   raster::reference::coverage(raster::reference::snap(v.data(), width, height), width, height, count);
   return toArray(count, {height, width});
@@ -258,11 +272,13 @@ void writeImageArray(const std::string& path, py::handle image) {
       for (int x = 0; x < w; ++x, d += ch) img.at(x, y) = {d[0], d[1], d[2], ch == 4 ? d[3] : uint8_t{255}};
     st = engine::writeImage(path, img);
   } else {
-    if (a.dtype().kind() != 'f') raise("image: expected uint8 (PNG) or float (EXR), got dtype " + std::string(py::str(a.dtype())));
+    if (a.dtype().kind() != 'f')
+      raise("image: expected uint8 (PNG) or float (EXR), got dtype " + std::string(py::str(a.dtype())));
     if (!exr) raise(path + ": float images are written as OpenEXR (.exr)");
     const auto px = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
     std::vector<float> samples(px.data(), px.data() + px.size());
-    st = engine::writeFloatImage(path, static_cast<int>(w), static_cast<int>(h), static_cast<int>(ch), samples);
+    st = engine::writeFloatImage(path, static_cast<int>(w), static_cast<int>(h), static_cast<int>(ch),
+                                 samples);
   }
   if (!st) raise(st.error());
 }

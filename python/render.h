@@ -17,9 +17,9 @@ namespace penumbra::python {
 
 struct PyScene {
   engine::Scene scene;
-  bool validated = false;             // validateScene ran since the last change
-  std::optional<float> cameraAspect;  // set_camera_matrices: the projection's width / height
-  std::atomic<int> rendering{0};      // renders in flight (the GIL is released during them)
+  bool validated = false;                   // validateScene ran since the last change
+  std::optional<float> cameraAspect;        // set_camera_matrices: the projection's width / height
+  std::atomic<int> rendering{0};            // renders in flight (the GIL is released during them)
   std::optional<engine::SkyLight> userSky;  // the sky before default lighting replaced it
 
   // Raises when a render is in flight; marks the scene as changed.
@@ -33,7 +33,7 @@ struct RenderArgs {
   int spp = 16;
   int msaa = 1;
   int threads = 0;
-  std::vector<std::string> aov;     // buffer names (aov_names())
+  std::vector<std::string> aov;  // buffer names (aov_names())
   double exposure = 0.0;
   std::string tonemap = "none";
   int64_t frame = 0;
@@ -50,8 +50,8 @@ py::dict render(PyScene& scene, const RenderArgs& args);
 // The bare pipeline: clip-space vertices (N x 4) and triangles (M x 3) into a width x height
 // target, depth test less, per pixel the nearest triangle's index, depth z/w and perspective-correct
 // barycentrics.
-py::dict rasterize(py::handle verticesClip, py::handle triangles, int width, int height, const std::string& cull,
-                   int threads);
+py::dict rasterize(py::handle verticesClip, py::handle triangles, int width, int height,
+                   const std::string& cull, int threads);
 
 // The scalar reference rasterizer (raster/reference.h) on one triangle (3 x 4 clip-space vertices,
 // w > 0, |x/w|, |y/w| <= 2): per pixel how many times its centre is covered (0 or 1), for

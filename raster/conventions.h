@@ -24,6 +24,8 @@
 // Thread-safety: constants and enums only.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -70,6 +72,24 @@ inline constexpr std::span<const SampleOffset> samplePattern(int n) {
          : n == 4 ? std::span<const SampleOffset>(kSamples4)
          : n == 8 ? std::span<const SampleOffset>(kSamples8)
                   : std::span<const SampleOffset>();
+}
+
+// The samples of samplePattern(n) ordered nearest the pixel centre first (ties: the lower index):
+// the order in which a resolve picks the sample a surface is shaded at. Entries past n are 0.
+inline constexpr std::array<int, kMaxSamples> samplesNearestFirst(int n) {
+  const std::span<const SampleOffset> p = samplePattern(n);
+  std::array<int, kMaxSamples> order{};
+  for (int i = 0; i < static_cast<int>(p.size()); ++i) {
+    const auto d2 = [&](int s) {
+      const SampleOffset o = p[static_cast<size_t>(s)];
+      return o.dx * o.dx + o.dy * o.dy;
+    };
+    int j = i;  // insertion sort, stable
+    for (; j > 0 && d2(order[static_cast<size_t>(j - 1)]) > d2(i); --j)
+      order[static_cast<size_t>(j)] = order[static_cast<size_t>(j - 1)];
+    order[static_cast<size_t>(j)] = i;
+  }
+  return order;
 }
 
 enum class CullMode : uint8_t { None, Back, Front };

@@ -21,19 +21,21 @@ Scene silhouettes() {
   s.meshes = {makePlane(12.0f, 12.0f, 2), makeSphere(0.8f, 24, 48), makeBox(glm::vec3(1.0f)),
               makeCylinder(0.06f, 2.0f, 16)};
   s.materials.resize(4);
-  const glm::vec4 colors[4] = {{0.6f, 0.6f, 0.6f, 1}, {0.9f, 0.2f, 0.1f, 1}, {0.1f, 0.3f, 0.9f, 1}, {0.9f, 0.9f, 0.2f, 1}};
+  const glm::vec4 colors[4] = {
+      {0.6f, 0.6f, 0.6f, 1}, {0.9f, 0.2f, 0.1f, 1}, {0.1f, 0.3f, 0.9f, 1}, {0.9f, 0.9f, 0.2f, 1}};
   for (int i = 0; i < 4; ++i) {
     s.materials[static_cast<size_t>(i)].baseColorFactor = colors[i];
     s.meshes[static_cast<size_t>(i)].material = i;
   }
-  s.instances = {{.name = "ground", .mesh = 0},
-                 {.name = "ball", .mesh = 1, .transform = glm::translate(glm::mat4(1.0f), {-0.9f, 0.8f, 0.0f})},
-                 {.name = "box",
-                  .mesh = 2,
-                  .transform = glm::rotate(glm::translate(glm::mat4(1.0f), {0.9f, 0.5f, -0.3f}), 0.6f, {0, 1, 0})},
-                 {.name = "pole", .mesh = 3, .transform = glm::translate(glm::mat4(1.0f), {0.1f, 1.0f, 0.9f})}};
-  s.areaLights.push_back(shadows::RectLight{.center = {1.0f, 5.0f, 1.0f}, .width = 1.5f, .height = 1.5f,
-                                            .intensity = 3.0f});
+  s.instances = {
+      {.name = "ground", .mesh = 0},
+      {.name = "ball", .mesh = 1, .transform = glm::translate(glm::mat4(1.0f), {-0.9f, 0.8f, 0.0f})},
+      {.name = "box",
+       .mesh = 2,
+       .transform = glm::rotate(glm::translate(glm::mat4(1.0f), {0.9f, 0.5f, -0.3f}), 0.6f, {0, 1, 0})},
+      {.name = "pole", .mesh = 3, .transform = glm::translate(glm::mat4(1.0f), {0.1f, 1.0f, 0.9f})}};
+  s.areaLights.push_back(
+      shadows::RectLight{.center = {1.0f, 5.0f, 1.0f}, .width = 1.5f, .height = 1.5f, .intensity = 3.0f});
   s.camera = Camera{.eye = {0.3f, 2.2f, 5.0f}, .target = {0.0f, 0.6f, 0.0f}, .fovYDegrees = 40.0f};
   EXPECT_TRUE(validateScene(s, "silhouettes").ok());
   return s;
@@ -129,7 +131,8 @@ TEST(MsaaRender, SameBytesAtAnyThreadCount) {
     const Frame f = test::renderFrame(r, scene, opt);
     const std::vector<uint8_t> b = test::bytes(f.color);
     const std::vector<float> v = f.visibility[0].packed();
-    if (first.empty()) first = b, firstV = v;
+    if (first.empty())
+      first = b, firstV = v;
     else {
       EXPECT_EQ(b, first) << threads << " threads";
       EXPECT_EQ(v, firstV) << threads << " threads";

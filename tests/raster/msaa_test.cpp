@@ -15,18 +15,23 @@ namespace {
 
 // Per sample s, per pixel: how many fragments the pass produced (depth test off).
 std::vector<std::vector<uint32_t>> sampleCounts(Rasterizer& r, int samples, int w, int h,
-                                                std::span<const glm::vec4> verts, std::span<const uint32_t> idx) {
+                                                std::span<const glm::vec4> verts,
+                                                std::span<const uint32_t> idx) {
   std::vector<DepthTarget> depth(static_cast<size_t>(samples), DepthTarget(w, h, 1.0f));
-  std::vector<std::vector<uint32_t>> count(static_cast<size_t>(samples),
-                                           std::vector<uint32_t>(static_cast<size_t>(w) * static_cast<size_t>(h), 0));
+  std::vector<std::vector<uint32_t>> count(
+      static_cast<size_t>(samples),
+      std::vector<uint32_t>(static_cast<size_t>(w) * static_cast<size_t>(h), 0));
   DrawDesc d;
   d.vertexCount = static_cast<uint32_t>(verts.size());
   d.indices = idx;
   d.depthFunc = DepthFunc::Always;
   d.depthWrite = false;
-  r.drawSamples(d, depth, [&](uint32_t i, float*) { return verts[i]; }, [&](const Fragment& f) {
-    ++count[static_cast<size_t>(f.sample)][static_cast<size_t>(f.y) * static_cast<size_t>(w) + static_cast<size_t>(f.x)];
-  });
+  r.drawSamples(
+      d, depth, [&](uint32_t i, float*) { return verts[i]; },
+      [&](const Fragment& f) {
+        ++count[static_cast<size_t>(f.sample)]
+               [static_cast<size_t>(f.y) * static_cast<size_t>(w) + static_cast<size_t>(f.x)];
+      });
   return count;
 }
 
@@ -40,7 +45,9 @@ TEST(Msaa, SamplePatternsAreTheStandardOnes) {
       const SampleOffset a = samplePattern(n)[static_cast<size_t>(i)];
       EXPECT_TRUE(a.dx > -8 && a.dx < 8 && a.dy > -8 && a.dy < 8);
       sx += a.dx, sy += a.dy;
-      for (int j = 0; j < i; ++j) EXPECT_FALSE(a.dx == samplePattern(n)[static_cast<size_t>(j)].dx && a.dy == samplePattern(n)[static_cast<size_t>(j)].dy);
+      for (int j = 0; j < i; ++j)
+        EXPECT_FALSE(a.dx == samplePattern(n)[static_cast<size_t>(j)].dx &&
+                     a.dy == samplePattern(n)[static_cast<size_t>(j)].dy);
     }
     EXPECT_EQ(sx, 0);
     EXPECT_EQ(sy, 0);
@@ -66,14 +73,17 @@ TEST(Msaa, CoverageEqualsTheReferenceAtEverySample) {
         }
         p = test::clipFromScreen(sx, sy, u(rng), 0.5 + 2.0 * u(rng), kW, kH);
       }
-      if (iter % 4 == 1) v[2] = test::clipFromScreen(kW * 0.5, -30.0, 0.5, 1.0, kW, kH);  // long thin triangles
+      if (iter % 4 == 1)
+        v[2] = test::clipFromScreen(kW * 0.5, -30.0, 0.5, 1.0, kW, kH);  // long thin triangles
       const uint32_t idx[3] = {0, 1, 2};
       const auto fast = sampleCounts(r, n, kW, kH, v, idx);
       const reference::SnappedTriangle t = reference::snap(v, kW, kH);
       for (int s = 0; s < n; ++s) {
         std::vector<uint32_t> ref(static_cast<size_t>(kW) * kH, 0);
-        reference::coverage(t, kW, kH, ref, samplePattern(n)[static_cast<size_t>(s)].dx, samplePattern(n)[static_cast<size_t>(s)].dy);
-        ASSERT_EQ(fast[static_cast<size_t>(s)], ref) << n << " samples, sample " << s << ", iteration " << iter;
+        reference::coverage(t, kW, kH, ref, samplePattern(n)[static_cast<size_t>(s)].dx,
+                            samplePattern(n)[static_cast<size_t>(s)].dy);
+        ASSERT_EQ(fast[static_cast<size_t>(s)], ref)
+            << n << " samples, sample " << s << ", iteration " << iter;
       }
     }
   }
@@ -107,9 +117,11 @@ TEST(Msaa, ClosedTessellationsCoverEverySampleOnce) {
       for (int j = 0; j < g; ++j)
         for (int i = 0; i < g; ++i) {
           if (u(rng) < 0.5)
-            idx.insert(idx.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+            idx.insert(idx.end(),
+                       {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i, j + 1)});
           else
-            idx.insert(idx.end(), {at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+            idx.insert(idx.end(),
+                       {at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
         }
       const auto c = sampleCounts(r, n, kW, kH, v, idx);
       for (int s = 0; s < n; ++s)
@@ -132,14 +144,18 @@ TEST(Msaa, DepthAndBarycentricsAtTheSamplePosition) {
   d.vertexCount = 3;
   size_t checked = 0;
   double worst = 0, worstZ = 0;
-  r.drawSamples(d, depth, [&](uint32_t i, float*) { return v[i]; }, [&](const Fragment& f) {
-    const glm::dvec4 p = glm::dvec4(v[0]) * double{f.b0} + glm::dvec4(v[1]) * double{f.b1} + glm::dvec4(v[2]) * double{f.b2};
-    const SampleOffset o = kSamples8[f.sample];
-    const double sx = (p.x / p.w * 0.5 + 0.5) * kW, sy = (0.5 - p.y / p.w * 0.5) * kH;
-    worst = std::max({worst, std::abs(sx - (f.x + 0.5 + o.dx / 16.0)), std::abs(sy - (f.y + 0.5 + o.dy / 16.0))});
-    worstZ = std::max(worstZ, std::abs(p.z / p.w - double{f.depth}));
-    ++checked;
-  });
+  r.drawSamples(
+      d, depth, [&](uint32_t i, float*) { return v[i]; },
+      [&](const Fragment& f) {
+        const glm::dvec4 p = glm::dvec4(v[0]) * double{f.b0} + glm::dvec4(v[1]) * double{f.b1} +
+                             glm::dvec4(v[2]) * double{f.b2};
+        const SampleOffset o = kSamples8[f.sample];
+        const double sx = (p.x / p.w * 0.5 + 0.5) * kW, sy = (0.5 - p.y / p.w * 0.5) * kH;
+        worst = std::max(
+            {worst, std::abs(sx - (f.x + 0.5 + o.dx / 16.0)), std::abs(sy - (f.y + 0.5 + o.dy / 16.0))});
+        worstZ = std::max(worstZ, std::abs(p.z / p.w - double{f.depth}));
+        ++checked;
+      });
   EXPECT_GT(checked, 8u * 400u);
   EXPECT_LT(worst, 1.0 / 256.0);  // the vertices' snapping to 1/256 pixel
   EXPECT_LT(worstZ, 1e-3);
@@ -163,12 +179,14 @@ TEST(Msaa, SameSamplesAtAnyThreadCount) {
     DrawDesc d;
     d.vertexCount = static_cast<uint32_t>(v.size());
     d.indices = idx;
-    r.drawSamples(d, depth, [&](uint32_t i, float*) { return v[i]; }, [&](const Fragment& f) {
-      uint32_t bits;
-      std::memcpy(&bits, &f.b1, 4);
-      out[static_cast<size_t>(f.sample) * kW * kH + static_cast<size_t>(f.y) * kW + static_cast<size_t>(f.x)] =
-          (uint64_t{f.primitive} << 32) | bits;
-    });
+    r.drawSamples(
+        d, depth, [&](uint32_t i, float*) { return v[i]; },
+        [&](const Fragment& f) {
+          uint32_t bits;
+          std::memcpy(&bits, &f.b1, 4);
+          out[static_cast<size_t>(f.sample) * kW * kH + static_cast<size_t>(f.y) * kW +
+              static_cast<size_t>(f.x)] = (uint64_t{f.primitive} << 32) | bits;
+        });
     for (const DepthTarget& t : depth)
       for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
@@ -177,8 +195,10 @@ TEST(Msaa, SameSamplesAtAnyThreadCount) {
           std::memcpy(&z, &zf, 4);
           out.push_back(z);
         }
-    if (first.empty()) first = out;
-    else EXPECT_EQ(out, first) << threads << " threads";
+    if (first.empty())
+      first = out;
+    else
+      EXPECT_EQ(out, first) << threads << " threads";
   }
 }
 

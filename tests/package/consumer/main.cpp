@@ -77,7 +77,8 @@ int main(int argc, char** argv) {
   pe::RenderOptions bad = opt;
   bad.spp = 0;
   const pe::Result<pe::Frame> refused = renderer.render(scene, bad);
-  check(!refused.ok() && refused.error().line().find("--spp") != std::string::npos, "a bad option is an Error");
+  check(!refused.ok() && refused.error().line().find("--spp") != std::string::npos,
+        "a bad option is an Error");
 
   // The bare pipeline on one triangle, against the scalar reference rasterizer, pixel for pixel.
   pr::Rasterizer raster({.threads = 2});
@@ -87,12 +88,14 @@ int main(int argc, char** argv) {
   std::vector<uint32_t> fast(kW * kH, 0), ref(kW * kH, 0);
   pr::DrawDesc desc;
   desc.vertexCount = 3;
-  raster.draw(desc, depth, [&](uint32_t i, float*) { return clip[i]; },
-              [&](const pr::Fragment& f) { ++fast[static_cast<size_t>(f.y * kW + f.x)]; });
+  raster.draw(
+      desc, depth, [&](uint32_t i, float*) { return clip[i]; },
+      [&](const pr::Fragment& f) { ++fast[static_cast<size_t>(f.y * kW + f.x)]; });
   pr::reference::coverage(pr::reference::snap(clip, kW, kH), kW, kH, ref);
   size_t covered = 0;
   for (uint32_t c : fast) covered += c;
-  check(fast == ref && covered > 100, "triangle coverage equals the reference (" + std::to_string(covered) + " pixels)");
+  check(fast == ref && covered > 100,
+        "triangle coverage equals the reference (" + std::to_string(covered) + " pixels)");
 
   if (argc > 1 && lit.ok()) {
     const std::filesystem::path out = std::filesystem::path(argv[1]) / "consumer.png";
