@@ -143,7 +143,9 @@ struct MsaaW2 {
   std::vector<glm::vec2> bary;  // b1, b2 (b0 = 1 - b1 - b2)
 
   raster::PassStats draw() {
-    depth.assign(static_cast<size_t>(samples), raster::DepthTarget(width, height, 1.0f));
+    if (depth.size() != static_cast<size_t>(samples))  // allocated once, cleared every frame
+      depth.assign(static_cast<size_t>(samples), raster::DepthTarget(width, height, 1.0f));
+    for (raster::DepthTarget& d : depth) rast.clear(d, 1.0f);
     prim.resize(static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(samples));
     bary.resize(prim.size());
     raster::DrawDesc desc;

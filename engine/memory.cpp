@@ -60,11 +60,12 @@ MemoryEstimate estimateFrameMemory(const Scene& scene, const ResolvedOptions& re
     part("stochastic layers", pixels * (sizeof(stochastic::ResolvedPixel) + (layers - 1) * sizeof(GBufferTexel) +
                                         layers * sizeof(shadows::Receiver) + 1) +
                                   stochasticVertices * 32 + stochasticTriangles * 16);
-  // Multisampling: a depth target (depth + coarse) and a hit record (msaa_pass.cpp) per sample, and
-  // the layers as a stochastic pass's.
+  // Multisampling: a depth target (depth + coarse) and a hit record (msaa_pass.cpp) per sample, the
+  // layers as a stochastic pass's, and every instance's shading prepared at once.
   if (msaa > 1)
     part("multisample targets and layers", pixels * (msaa * (4 + 1 + 20) + sizeof(stochastic::ResolvedPixel) +
-                                                     (layers - 1) * sizeof(GBufferTexel) + layers * sizeof(shadows::Receiver)));
+                                                     (layers - 1) * sizeof(GBufferTexel) + layers * sizeof(shadows::Receiver)) +
+                                               allTriangles * 4);  // every instance's texture LOD at once
   // Vertex stage of the largest draw (clip, screen, 8 varyings) and one batch of set-up triangles
   // with their attributes and bins.
   const uint64_t batch = std::min<uint64_t>(allTriangles, uint64_t{1} << 20);

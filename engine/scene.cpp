@@ -191,6 +191,9 @@ Status validateScene(Scene& scene, const std::string& where) {
         !std::isfinite(cam.focusDistance))
       return Error{where, "camera aperture and focus distance must be finite and >= 0"};
     if (!(glm::length(cam.target - cam.eye) > 0.0f)) return Error{where, "camera eye and target coincide"};
+    if (!(cam.znear >= 0.0f) || !std::isfinite(cam.znear) || !(cam.zfar >= 0.0f) || !std::isfinite(cam.zfar) ||
+        (cam.znear > 0.0f && cam.zfar > 0.0f && !(cam.zfar > cam.znear)))
+      return Error{where, "camera near and far must be finite and >= 0 (0: fitted), far beyond near"};
   }
   return Ok{};
 }

@@ -75,7 +75,8 @@ void setCameraMatrices(PyScene& s, py::handle view, py::handle projection, const
   if (depth != "gl" && depth != "zero_to_one")
     raise("depth: expected 'gl' or 'zero_to_one', got '" + depth + "'");
   const glm::mat3 r(v);
-  if (std::abs(glm::determinant(r) - 1.0f) > 1e-3f)
+  if (v[0][3] != 0.0f || v[1][3] != 0.0f || v[2][3] != 0.0f || v[3][3] != 1.0f ||
+      std::abs(glm::determinant(r) - 1.0f) > 1e-3f)
     raise("view: expected a rigid transform (rotation and translation)");
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
@@ -95,7 +96,9 @@ void setCameraMatrices(PyScene& s, py::handle view, py::handle projection, const
   cam.up = glm::vec3(c[1]);
   cam.fovYDegrees = static_cast<float>(2.0 * std::atan(1.0 / static_cast<double>(p[1][1])) * 180.0 / M_PI);
   const double a = p[2][2], b = p[3][2];
-  const double n = depth == "gl" ? b / (a - 1.0) : b / a, f = depth == "gl" ? b / (a + 1.0) : b / (a + 1.0);
+  // A finite far plane gives a < -1 in both conventions; a = -1 is the infinite far plane.
+  const double n = depth == "gl" ? b / (a - 1.0) : b / a;
+  const double f = a < -1.0 ? b / (a + 1.0) : INFINITY;
   if (!(n > 0.0) || !std::isfinite(n) || !(f > n))
     raise("projection: its near and far planes are not 0 < near < far");
   cam.znear = static_cast<float>(n);

@@ -48,6 +48,13 @@ void prepareScene(PyScene& s, bool defaultLight) {
     s.validated = true;
   }
   if (defaultLight == s.scene.defaultLighting) return;
+  if (defaultLight) {  // nothing to add to a scene with lights of its own or without geometry
+    const engine::Scene& sc = s.scene;
+    glm::vec3 lo, hi;
+    if (!sc.areaLights.empty() || !sc.directionalLights.empty() || !sc.pointLights.empty() ||
+        !sc.spotLights.empty() || !sc.objectBounds(lo, hi))
+      return;
+  }
   if (s.rendering.load() != 0)
     raise("render: default_light differs from a render of this scene still running");
   if (defaultLight) {
@@ -146,7 +153,8 @@ py::dict render(PyScene& s, const RenderArgs& a) {
   // The frame's peak and the arrays handed back (color 4 + linear 16 bytes, 12 per AOV per pixel).
   engine::MemoryEstimate memory = engine::estimateFrameMemory(s.scene, *resolved);
   const uint64_t pixels = static_cast<uint64_t>(a.width) * static_cast<uint64_t>(a.height);
-  memory.parts.emplace_back("output arrays", pixels * (20 + 12 * aovs.size()));
+  const uint64_t lights = std::max<uint64_t>(s.scene.areaLights.size(), 1);
+  memory.parts.emplace_back("output arrays", pixels * (20 + 12 * aovs.size() + 4 * (lights - 1)));
   memory.bytes += memory.parts.back().second;
   const uint64_t limit = a.maxMemory ? a.maxMemory : engine::availableMemoryBytes();
   if (engine::Status st =
@@ -202,6 +210,15 @@ py::dict rasterize(py::handle verticesClip, py::handle triangles, int width, int
   desc.vertexCount = static_cast<uint32_t>(clip.size());
   desc.indices = indices;
   const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+  // Depth target, the four outputs and their arrays, the vertex stage and one batch of triangles.
+  engine::MemoryEstimate memory;
+  memory.parts = {{"targets and outputs", pixels * (5 + 2 * 21)},
+                  {"pipeline", clip.size() * 36 + std::min<uint64_t>(indices.size() / 3, 1u << 20) * 128}};
+  memory.bytes = memory.parts[0].second + memory.parts[1].second;
+  if (engine::Status st = engine::checkMemory(memory, engine::availableMemoryBytes(), "rasterize",
+                                              "the memory available");
+      !st)
+    raise(st.error());
   std::vector<int32_t> tri(pixels, -1);
   std::vector<float> depth(pixels, NAN), bary(pixels * 3, NAN);
   std::vector<uint8_t> front(pixels, 0);

@@ -79,3 +79,52 @@ def test_empty_meshes_render():
     s.set_camera(eye=(0, 0, 5), target=(0, 0, 0))
     out = penumbra.render(s, 8, 8, aov=["triangle"])
     assert (out["triangle"] == -1).all()
+
+
+def test_random_garbage_only_raises_penumbra_error():
+    """Arrays of random shapes, dtypes and values (NaN, Inf, huge, negative) into every entry point:
+    each call either works or raises penumbra.Error, never anything else, never a crash."""
+    rng = np.random.default_rng(1234)
+    dtypes = [np.float32, np.float64, np.int8, np.int32, np.int64, np.uint16, np.uint32, np.uint64, np.bool_,
+              np.complex64, object]
+    specials = np.array([np.nan, np.inf, -np.inf, 1e38, -1e38, 0.0, 1.0, -1.0, 2**31, 2**33])
+
+    def garbage():
+        n = int(rng.integers(0, 7))
+        shapes = [(n, 3), (n, 3), (n, 4), (n, 2), (4, 4), (3,), (n,), (), (n, 3, 1)]
+        shape = shapes[int(rng.integers(0, len(shapes)))]
+        a = rng.choice(specials, size=shape) if rng.random() < 0.5 else rng.normal(0, 3, size=shape)
+        dt = dtypes[int(rng.integers(0, len(dtypes)))]
+        try:
+            with np.errstate(all="ignore"):
+                return np.asarray(a).astype(dt)
+        except (ValueError, OverflowError, TypeError):
+            return np.asarray(a)
+
+    calls = rendered = 0
+    for _ in range(400):
+        s = penumbra.Scene()
+        # Half the time well-formed arrays of extreme values (huge, tiny, degenerate): they must render.
+        n = int(rng.integers(1, 9))
+        good = rng.random() < 0.5
+        v = rng.choice(specials[3:], size=(n, 3)) * rng.random((n, 3)) if good else garbage()
+        t = rng.integers(0, n, size=(int(rng.integers(0, 5)), 3)) if good else garbage()
+        try:
+            s.add_mesh(v, t, normals=garbage() if rng.random() < 0.2 else None,
+                       colors=garbage() if rng.random() < 0.2 else None,
+                       transform=garbage() if rng.random() < 0.2 else None)
+            s.set_camera(eye=rng.normal(0, 5, 3) if good else garbage(), target=(0, 0, 0))
+            penumbra.render(s, 8, 8, shadow="pcss")
+            rendered += 1
+        except penumbra.Error:
+            pass
+        try:
+            penumbra.rasterize(garbage(), garbage(), 8, 8)
+        except penumbra.Error:
+            pass
+        try:
+            s.set_camera_matrices(garbage(), garbage())
+        except penumbra.Error:
+            pass
+        calls += 1
+    assert calls == 400 and rendered > 5  # some garbage is valid and renders

@@ -262,3 +262,43 @@ def test_msaa_smooths_edges(ball_scene):
     assert partial.sum() > 20
     with pytest.raises(penumbra.Error, match="--msaa"):
         penumbra.render(ball_scene, 16, 16, msaa=3)
+
+
+def test_concurrent_renders_of_one_lit_scene(ball_scene):
+    results, errors = [], []
+
+    def work():
+        try:
+            results.append(penumbra.render(ball_scene, 120, 80, shadow="pcss")["color"])
+        except penumbra.Error as e:
+            errors.append(str(e))
+
+    threads = [threading.Thread(target=work) for _ in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors and len(results) == 3
+    assert all(np.array_equal(results[0], r) for r in results[1:])
+
+
+def test_camera_checks(ball_scene):
+    ball_scene.set_camera(eye=(0, 3, 6), target=(0, 0, 0), near=2.0, far=1.0)
+    with pytest.raises(penumbra.Error, match="near and far"):
+        penumbra.render(ball_scene, 16, 16)
+    ball_scene.set_camera(eye=(0, 3, 6), target=(0, 0, 0), near=float("nan"))
+    with pytest.raises(penumbra.Error, match="near and far"):
+        penumbra.render(ball_scene, 16, 16)
+    # An infinite far plane (the limit of a GL projection) is accepted: far fitted to the scene.
+    n, fov = 0.5, np.radians(40.0)
+    proj = np.zeros((4, 4))
+    proj[0, 0], proj[1, 1] = 1 / np.tan(fov / 2), 1 / np.tan(fov / 2)
+    proj[2, 2], proj[2, 3], proj[3, 2] = -1.0, -2 * n, -1
+    view = np.eye(4)
+    view[2, 3] = -6.0
+    ball_scene.set_camera_matrices(view, proj)
+    assert (penumbra.render(ball_scene, 32, 32, aov=["instance"])["instance"] >= 0).any()
+    bad = view.copy()
+    bad[3, 0] = 1.0
+    with pytest.raises(penumbra.Error, match="rigid"):
+        ball_scene.set_camera_matrices(bad, proj)

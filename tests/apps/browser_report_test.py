@@ -10,6 +10,7 @@ Fails when an image or plot is missing or broken, or the screenshot is blank. Ex
 with a message) when Chromium is not installed.
 """
 import functools
+import html
 import http.server
 import json
 import os
@@ -107,7 +108,10 @@ def main():
                        "--out", os.path.join(work, "stochastic")],
     }
     for name, cmd in runs.items():
-        subprocess.run(cmd, check=True, capture_output=True, timeout=900)
+        done = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+        if done.returncode != 0:
+            print("FAILED: bench %s exited %d: %s" % (name, done.returncode, done.stderr.strip()))
+            return 1
     handler = functools.partial(http.server.SimpleHTTPRequestHandler, directory=work)
     http.server.SimpleHTTPRequestHandler.log_message = lambda *a: None
     server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
@@ -123,7 +127,7 @@ def main():
             if not m:
                 failures.append(name + ": the checker page did not finish (no result in the DOM)")
                 continue
-            r = json.loads(m.group(1).replace("&quot;", '"').replace("&amp;", "&"))
+            r = json.loads(html.unescape(m.group(1)))
             print(name, r)
             if r["images"] < 4 or r["broken"] or r["plots"] < 1 or r["tables"] < 1:
                 failures.append("%s: %d images, broken %s, %d plots, %d tables" %

@@ -10,8 +10,10 @@ rm -rf "$work"
 mkdir -p "$work"
 work=$(readlink -f "$work")
 cmake --install "$build" --prefix "$work/prefix" >/dev/null
-test -f "$work/prefix/lib/cmake/Penumbra/PenumbraConfig.cmake"
-test -f "$work/prefix/lib/cmake/Penumbra/PenumbraConfigVersion.cmake"
+# lib, lib64 or lib/<multiarch>: wherever GNUInstallDirs put the package.
+config=$(find "$work/prefix" -name PenumbraConfig.cmake -path '*/cmake/Penumbra/*' | head -n 1)
+test -n "$config"
+test -f "$(dirname "$config")/PenumbraConfigVersion.cmake"
 test -f "$work/prefix/include/penumbra/engine/renderer.h"
 # The compiler and build type of the build tree (a sanitized build's libraries need its flags).
 cxx=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$build/CMakeCache.txt")
