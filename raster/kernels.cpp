@@ -350,6 +350,12 @@ MinMaxPyramid buildMinMaxPyramid(const ImageFloat& depth) {
 }
 
 void queryMinMax(const MinMaxPyramid& pyramid, int x0, int y0, int x1, int y1, float& mn, float& mx) {
+  int covered[4];
+  queryMinMax(pyramid, x0, y0, x1, y1, mn, mx, covered);
+}
+
+void queryMinMax(const MinMaxPyramid& pyramid, int x0, int y0, int x1, int y1, float& mn, float& mx, int covered[4]) {
+  covered[0] = covered[1] = covered[2] = covered[3] = 0;
   mn = std::numeric_limits<float>::infinity();
   mx = -std::numeric_limits<float>::infinity();
   if (pyramid.mins.empty()) return;
@@ -359,6 +365,9 @@ void queryMinMax(const MinMaxPyramid& pyramid, int x0, int y0, int x1, int y1, f
   // lies in texel (x1 - 1) >> k. The top level is 1x1, so the loop always ends.
   int k = 0;
   while ((((x1 - 1) >> k) - (x0 >> k)) > 1 || (((y1 - 1) >> k) - (y0 >> k)) > 1) ++k;
+  covered[0] = (x0 >> k) << k, covered[1] = (y0 >> k) << k;
+  covered[2] = std::min((((x1 - 1) >> k) + 1) << k, base.width());
+  covered[3] = std::min((((y1 - 1) >> k) + 1) << k, base.height());
   const ImageFloat& mins = pyramid.mins[static_cast<size_t>(k)];
   const ImageFloat& maxs = pyramid.maxs[static_cast<size_t>(k)];
   for (int ty = y0 >> k; ty <= (y1 - 1) >> k; ++ty)

@@ -112,6 +112,9 @@ MinMaxPyramid buildMinMaxPyramid(const ImageFloat& depth);
 // texel's footprint at some level (e.g. one pixel). An empty rectangle or pyramid gives
 // mn = +inf, mx = -inf.
 void queryMinMax(const MinMaxPyramid& pyramid, int x0, int y0, int x1, int y1, float& mn, float& mx);
+// The same, and the pixel rectangle the bounds are over (the texels it read, in level-0 pixels,
+// clamped to the image): covered = {x0, y0, x1, y1}, containing the query's rectangle.
+void queryMinMax(const MinMaxPyramid& pyramid, int x0, int y0, int x1, int y1, float& mn, float& mx, int covered[4]);
 
 // --- Mip chain -----------------------------------------------------------------------------------
 // Box-filtered mips: level 0 is a copy of src, each texel of level k+1 the mean (in double, then

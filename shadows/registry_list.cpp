@@ -1,20 +1,24 @@
 #include "shadows/registry_list.h"
 
 #include "shadows/esm.h"
+#include "shadows/essm.h"
 #include "shadows/evsm.h"
 #include "shadows/ground_truth.h"
 #include "shadows/hard.h"
 #include "shadows/mvr.h"
 #include "shadows/pcf.h"
 #include "shadows/pcss.h"
+#include "shadows/pfsvsm.h"
 #include "shadows/vsm.h"
+#include "shadows/vssm.h"
 #include "shadows/vwss.h"
 
 namespace penumbra::shadows {
 
 std::vector<TechniqueInfo> allTechniques() {
   return {hardTechnique(), pcfTechnique(), pcssTechnique(), vsmTechnique(), evsm2Technique(), evsm4Technique(),
-          esmTechnique(), mvrTechnique(), vwssTechnique(), referenceTechnique()};
+          esmTechnique(), essmTechnique(),
+          savsmTechnique(), vssmTechnique(), pfsvsmTechnique(), mvrTechnique(), vwssTechnique(), referenceTechnique()};
 }
 
 }  // namespace penumbra::shadows
