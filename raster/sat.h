@@ -61,7 +61,7 @@ struct Planes {
   const T* pixel(int x, int y) const { return data.data() + (static_cast<size_t>(y) * width + x) * channels; }
 };
 
-inline constexpr int kMaxSatChannels = 16;
+inline constexpr int kMaxSatChannels = 34;  // CSSM: 4 M + 2 at M = 8
 
 // S(x, y) per channel = sum over [0, x) x [0, y), x in [0, w], y in [0, h]; Sum is float, double or
 // uint64_t (modulo 2^64).

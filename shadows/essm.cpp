@@ -41,7 +41,7 @@ struct KernelResult {
 };
 
 struct Counts {
-  size_t kernels = 0, pcf = 0, precision = 0;
+  size_t kernels = 0, pcf = 0, precision = 0, split = 0, contact = 0, receivers = 0;
 };
 
 constexpr int kMaxSub = 8;  // the subdivision parameter's range
@@ -52,11 +52,13 @@ class Essm final : public Technique {
     bias_ = biasParams(params);
     usePlane_ = params.choice("receiver_plane") == "on";
     n_ = params.integer("subdivision");
+    adaptive_ = params.choice("split") == "adaptive";
     subdivide_ = params.choice("fallback") == "on";
     fallback_ = params.integer("fallback_taps");
     minMaxTest_ = params.choice("minmax_test") == "on";
     precisionTolerance_ = params.number("precision_tolerance");
     eps_ = params.number("nonplanar_epsilon");
+    leakTolerance_ = params.number("leak_tolerance");
     ellipse_ = params.choice("kernel") == "ellipse";
     rowHeight_ = params.number("rect_height");
     satKind_ = params.choice("sat");
@@ -69,6 +71,7 @@ class Essm final : public Technique {
     // c (z_max - z_min) <= 80: every stored value is in [e^-80, 1], normal floats (essm.h).
     c_ = std::min(fixed > 0.0 ? fixed : params.number("exponent_range") / range, kMaxRange / range);
     behindTolerance_ = std::log1p(eps_) / c_;
+    leakDepth_ = leakTolerance_ > 0.0 ? -std::log(leakTolerance_) / c_ : 0.0;
     const int w = m_.z.width(), h = m_.z.height();
     raster::Planes<float> planes(w, h, kChannels);
     raster::ImageFloat occupiedZ(w, h);
@@ -132,6 +135,7 @@ class Essm final : public Technique {
     const ReceiverImage& rec = *ctx.in.receivers;
     forEachReceiver(ctx, visibility, [&](int x, int y, const Receiver& r) {
       Counts& counts = counts_.local();
+      ++counts.receivers;
       const ReceiverKernel k = receiverKernel(m_, ctx, r, bias_, usePlane_);
       // 1. Blocker search over the box kernel w_avg.
       const KernelResult b = kernel(k, k.cx - k.sx, k.cy - k.sy, k.cx + k.sx, k.cy + k.sy, n_, n_, counts);
@@ -139,6 +143,19 @@ class Essm final : public Technique {
       const double zOcc = std::clamp(b.occDepth / b.occWeight, 0.0, k.zr);
       // 2. Penumbra kernel, 3. filter.
       const glm::dvec2 p = penumbraHalf(m_, ctx, k, zOcc);
+      if (k.zr - zOcc < leakDepth_) {
+        // Contact: blockers this near read exp(-c (z_r - z)) >= the tolerance, the ESM tail's light
+        // leak; PCF over the n x n sub-kernels instead (Penumbra's addition).
+        ++counts.contact;
+        KernelResult f;
+        for (int j = 0; j < n_; ++j)
+          for (int i = 0; i < n_; ++i) {
+            const double x0 = k.cx - p.x + 2.0 * p.x * i / n_, x1 = k.cx - p.x + 2.0 * p.x * (i + 1) / n_;
+            const double y0 = k.cy - p.y + 2.0 * p.y * j / n_, y1 = k.cy - p.y + 2.0 * p.y * (j + 1) / n_;
+            f.add(pcf(k, x0, y0, x1, y1));
+          }
+        return f.area > 0.0 ? static_cast<float>(f.lit / f.area) : 1.0f;
+      }
       const KernelResult f = ellipse_
                                  ? ellipseKernel(k, p, footprint(rec, x, y, k), counts)
                                  : kernel(k, k.cx - p.x, k.cy - p.y, k.cx + p.x, k.cy + p.y, n_, n_, counts);
@@ -148,17 +165,27 @@ class Essm final : public Technique {
     ctx.times.msEvaluate += msSince(t0);
     Counts total;
     for (const Counts& c : counts_)
-      total.kernels += c.kernels, total.pcf += c.pcf, total.precision += c.precision;
+      total.kernels += c.kernels, total.pcf += c.pcf, total.precision += c.precision, total.split += c.split,
+          total.contact += c.contact, total.receivers += c.receivers;
     const auto pct = [&](size_t n) {
       return total.kernels ? 100.0 * static_cast<double>(n) / static_cast<double>(total.kernels) : 0.0;
     };
-    char buf[240];
+    char buf[320];
     std::snprintf(
         buf, sizeof buf,
-        "essm: %zu sub-kernels, %zu (%.2f%%) by %dx%d PCF: %zu (%.2f%%) not planar, %zu (%.2f%%) beyond the "
-        "table's precision",
-        total.kernels, total.pcf, pct(total.pcf), fallback_, fallback_, total.pcf - total.precision,
+        "essm: %zu (sub-)kernels, %zu (%.2f%%) split %dx%d (%s), %zu (%.2f%%) by %dx%d PCF: %zu (%.2f%%) not "
+        "planar, %zu (%.2f%%) beyond the table's precision",
+        total.kernels, total.split, pct(total.split), n_, n_, adaptive_ ? "where not planar" : "always",
+        total.pcf, pct(total.pcf), fallback_, fallback_, total.pcf - total.precision,
         pct(total.pcf - total.precision), total.precision, pct(total.precision));
+    ctx.notes.push_back(buf);
+    std::snprintf(buf, sizeof buf,
+                  "essm: %zu of %zu receivers (%.2f%%) filtered by PCF: their blockers within %.4f of them "
+                  "(exp(-c d) above %g)",
+                  total.contact, total.receivers,
+                  total.receivers ? 100.0 * static_cast<double>(total.contact) / static_cast<double>(total.receivers)
+                                  : 0.0,
+                  leakDepth_, leakTolerance_);
     ctx.notes.push_back(buf);
   }
 
@@ -221,7 +248,9 @@ class Essm final : public Technique {
     if (!(s.area > 0.0)) return r;
     const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
     const double zc = k.zrAt(m_, cx, cy);
-    double logK = c_ * (static_cast<double>(m_.zMax) - zc);
+    // Against the unbiased plane (zc + biasZ): the receiver's own surface reads 1, not
+    // exp(c biasZ), which would brighten every partly blocked kernel by that factor.
+    double logK = c_ * (static_cast<double>(m_.zMax) - zc - k.biasZ);
     if (k.usePlane) {
       const double gx = 0.5 * (k.zrAt(m_, cx + 1.0, cy) - k.zrAt(m_, cx - 1.0, cy));
       const double gy = 0.5 * (k.zrAt(m_, cx, cy + 1.0) - k.zrAt(m_, cx, cy - 1.0));
@@ -286,6 +315,16 @@ class Essm final : public Technique {
   // planar, by PCF.
   KernelResult kernel(const ReceiverKernel& k, double x0, double y0, double x1, double y1, int nx, int ny,
                       Counts& counts) const {
+    if (adaptive_ && nx * ny > 1) {
+      // Section 5.2 as the paper orders it: the whole kernel first, split only where not planar.
+      BoxSums whole;
+      subSums(x0, y0, x1, y1, 1, 1, &whole);
+      bool planar = true, precisionMiss = false;
+      const KernelResult r = esm(k, whole, x0, y0, x1, y1, planar, precisionMiss);
+      ++counts.kernels;
+      if (planar) return r;
+      ++counts.split;
+    }
     BoxSums parts[kMaxSub * kMaxSub];
     subSums(x0, y0, x1, y1, nx, ny, parts);
     KernelResult r;
@@ -358,9 +397,9 @@ class Essm final : public Technique {
 
   PrefilterMap m_;
   BiasParams bias_;
-  bool usePlane_ = true, ellipse_ = false, subdivide_ = true, minMaxTest_ = true;
+  bool usePlane_ = true, ellipse_ = false, subdivide_ = true, minMaxTest_ = true, adaptive_ = false;
   int n_ = 3, fallback_ = 2;
-  double behindTolerance_ = 0, precisionTolerance_ = 0.01;
+  double behindTolerance_ = 0, precisionTolerance_ = 0.01, leakTolerance_ = 0.05, leakDepth_ = 0;
   raster::MinMaxPyramid occupied_;
   double eps_ = 0.02, rowHeight_ = 5, c_ = 1;
   std::string satKind_;
@@ -408,6 +447,22 @@ TechniqueInfo essmTechnique() {
        .maxValue = 24,
        .choices = {},
        .help = "mu: fixed-point bits of the integer tables (tiles of 2^floor((32 - mu) / 2) texels)"});
+  p.push_back({.name = "leak_tolerance",
+               .kind = ParamKind::Float,
+               .defaultValue = 0.05,
+               .minValue = 0,
+               .maxValue = 1,
+               .choices = {},
+               .help = "receivers whose average blocker reads exp(-c (z_r - z_occ)) above this take PCF over "
+                       "the penumbra kernel (0: never)"});
+  p.push_back({.name = "split",
+               .kind = ParamKind::Choice,
+               .defaultValue = 0,
+               .minValue = 0,
+               .maxValue = 1,
+               .choices = {"always", "adaptive"},
+               .help = "split a kernel into its n x n sub-kernels only where the whole is not planar (the "
+                       "paper's order), or always"});
   p.push_back({.name = "nonplanar_epsilon",
                .kind = ParamKind::Float,
                .defaultValue = 0.02,

@@ -47,15 +47,6 @@ void preparePrefilterMap(ShadowContext& ctx, const ParamSet& params, PrefilterMa
   ctx.times.msFilter += msSince(t1);
 }
 
-double ReceiverKernel::zrAt(const PrefilterMap& m, double x, double y) const {
-  if (!usePlane) return zr;
-  const LightView& v = m.map.view;
-  const auto tx = static_cast<float>(static_cast<double>(v.tanLo.x) + x / m.tpx);
-  const auto ty = static_cast<float>(static_cast<double>(v.tanHi.y) - y / m.tpy);
-  const float t = plane.threshold(tx, ty);  // near / biased depth
-  return m.map.normalizedDepth(t > 0.0f ? v.znear / t : INFINITY);
-}
-
 ReceiverKernel receiverKernel(const PrefilterMap& m, const ShadowContext& ctx, const Receiver& r,
                               BiasParams b, bool usePlane) {
   const LightView& view = m.map.view;

@@ -18,6 +18,7 @@
 // Thread-safety: a PrefilterMap is written by preparePrefilterMap and immutable afterwards.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <glm/ext/vector_double2.hpp>
 #include <glm/vec2.hpp>
@@ -65,6 +66,15 @@ struct ReceiverKernel {
   // z_r at texel coordinates (x, y): the tangent plane's there with `receiver_plane`, else zr.
   double zrAt(const PrefilterMap& m, double x, double y) const;
 };
+inline double ReceiverKernel::zrAt(const PrefilterMap& m, double x, double y) const {
+  if (!usePlane) return zr;
+  const LightView& v = m.map.view;
+  const auto tx = static_cast<float>(static_cast<double>(v.tanLo.x) + x / m.tpx);
+  const auto ty = static_cast<float>(static_cast<double>(v.tanHi.y) - y / m.tpy);
+  const float t = plane.threshold(tx, ty);  // near / biased depth
+  return m.map.normalizedDepth(t > 0.0f ? v.znear / t : INFINITY);
+}
+
 ReceiverKernel receiverKernel(const PrefilterMap& m, const ShadowContext& ctx, const Receiver& r,
                               BiasParams b, bool usePlane);
 // Penumbra half-extents in texels for a blocker at normalized depth zb, at least minHalf texels.

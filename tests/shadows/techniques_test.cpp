@@ -78,12 +78,15 @@ TEST(Techniques, RangeExactnessAndDeterminism) {
         ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << i << "," << j << ": " << v;
         ASSERT_EQ(std::bit_cast<uint32_t>(v), std::bit_cast<uint32_t>(v3.at(i, j))) << "threads differ at " << i << "," << j;
         if (i == 0 && j == 0) continue;  // background
-        // Far from the penumbra [-0.5, 0.5]: exactly 0 in the umbra, exactly 1 in full light.
+        // Far from the penumbra [-0.5, 0.5]: exactly 0 in the umbra, exactly 1 in full light. CSSM's
+        // truncated Fourier series ripples there (docs/techniques/cssm.md): within 0.01 (0.0042
+        // measured).
+        const float ripple = t.name == "cssm" ? 0.01f : 0.0f;
         if (EdgeCase::x(i) < -1.5f) {
-          ASSERT_EQ(v, 0.0f) << "umbra at x = " << EdgeCase::x(i);
+          ASSERT_LE(v, ripple) << "umbra at x = " << EdgeCase::x(i);
         }
         if (EdgeCase::x(i) > 1.5f) {
-          ASSERT_EQ(v, 1.0f) << "lit at x = " << EdgeCase::x(i);
+          ASSERT_GE(v, 1.0f - ripple) << "lit at x = " << EdgeCase::x(i);
         }
       }
   }
@@ -170,19 +173,26 @@ TEST(Techniques, PrefilteredSoftShadowsMatchTheAnalyticPenumbra) {
   // the ramp (its blocker depth and its width) to within a few hundredths. The receivers' plane is
   // a caster too, as the ground is in a frame: the variance techniques' bound is tight only when a
   // receiver's own surface is in the map around it (moments.h).
+  // A small caster nearer the light (y = 3) shadows only receivers already in the umbra, but it
+  // pulls the map's near plane to it: the blocker search box is then three times the penumbra box,
+  // so a wrong penumbra width cannot hide behind the search box's clamp.
   EdgeCase c;
   c.positions.insert(c.positions.end(), {{-20, 0, -20}, {20, 0, -20}, {20, 0, 20}, {-20, 0, 20}});
-  c.indices.insert(c.indices.end(), {4, 5, 6, 4, 6, 7});
+  c.positions.insert(c.positions.end(), {{-0.9f, 3, -0.2f}, {-0.8f, 3, -0.2f}, {-0.8f, 3, 0.2f}, {-0.9f, 3, 0.2f}});
+  c.indices.insert(c.indices.end(), {4, 5, 6, 4, 6, 7, 8, 9, 10, 8, 10, 11});
   c.in.casters = {c.positions, c.indices};
   struct Run {
     const char *name, *params;
     double mean, worst;  // bounds: about 1.5x what each measures, so a lost factor shows
   };
-  const Run runs[] = {{"essm", "", 0.006, 0.06},
-                      {"essm", "sat=integer", 0.006, 0.06},
-                      {"essm", "sat=double", 0.006, 0.06},
-                      {"essm", "kernel=ellipse", 0.011, 0.11},  // the pixel footprint widens the ramp
-                      {"essm", "subdivision=1", 0.017, 0.16},   // ESM-Z alone puts the blocker too near
+  const Run runs[] = {{"essm", "", 0.001, 0.005},
+                      {"essm", "sat=integer", 0.001, 0.005},
+                      {"essm", "sat=double", 0.001, 0.005},
+                      {"essm", "kernel=ellipse", 0.011, 0.09},  // the pixel footprint widens the ramp
+                      {"essm", "subdivision=1", 0.001, 0.005},
+                      {"essm", "split=adaptive", 0.001, 0.005},
+                      {"cssm", "", 0.012, 0.05},  // the smooth step of four Fourier terms
+                      {"cssm", "order=8", 0.008, 0.11},
                       {"vssm", "bleed_reduction=0", 0.002, 0.02},
                       {"vssm", "bleed_reduction=0,subdivision=1", 0.002, 0.02},
                       {"savsm", "bleed_reduction=0", 0.002, 0.03},
