@@ -59,6 +59,22 @@ int runStress(const StressArgs& a) {
       std::printf("%zu cases, %d broken (bleed: max V in full umbra; darken: 1 - min V in full light; rmse, bias: "
                   "against the exact V of the terminator, above-caster and contact cases, nan elsewhere)\n",
                   rows.size(), broken);
+    const std::vector<SatPrecisionRow> sat = runSatPrecision();
+    if (!a.json)
+      std::printf("\n%-14s %6s %8s %12s %12s %12s  %s\n", "sat table", "size", "queries", "max error", "relative",
+                  "error/bound", "verdict");
+    for (const SatPrecisionRow& r : sat) {
+      if (!r.ok()) ++broken;
+      if (a.json)
+        std::printf("%s\n", r.json().c_str());
+      else
+        std::printf("%-14s %6d %8zu %12.3e %12.3e %12.3e  %s\n", r.table.c_str(), r.size, r.queries, r.maxError,
+                    r.maxRelative, r.maxBoundRatio, r.ok() ? "ok" : "BROKEN");
+    }
+    if (!a.json)
+      std::printf("summed-area tables on exp(-80 u) at %d^2: error of box means against the exact sums (relative: "
+                  "to the exact mean; error/bound: against the table's stated bound, <= 1)\n",
+                  sat.empty() ? 0 : sat.front().size);
     return broken == 0 ? 0 : 1;
   }
   progress.step(1, 1, "raster cases");

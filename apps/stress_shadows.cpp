@@ -1,10 +1,13 @@
 #include "apps/stress_shadows.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <glm/geometric.hpp>
+#include <limits>
 
 #include "engine/report.h"
+#include "raster/sat.h"
 #include "shadows/technique.h"
 
 namespace penumbra::apps {
@@ -294,6 +297,110 @@ std::vector<ShadowStressRow> runShadowStress(raster::Rasterizer& rast) {
     for (float elevation : {30.0f, 5.0f}) rows.push_back(terminatorCase(rast, t, elevation));
     for (float slope : {0.0f, 60.0f}) rows.push_back(aboveCase(rast, t, 1e-4f, slope));
     rows.push_back(cubeContactCase(rast, t));
+    // Kernels wider than the map: a light six times the receivers' extent, near them.
+    {
+      Setup s;
+      s.lightHeight = 2.0f;
+      s.lightSize = 12.0f;
+      s.rects = {{-1e3f, 0.0f, -1e3f, 1e3f, 0.5f}};
+      rows.push_back(runCase(rast, t, "wide kernel", "light 12 over 4, at 2", s));
+    }
+    // Non-planar blockers: a step from 0.3 to 1.0 at x = 0, both halves covering the receivers.
+    {
+      Setup s;
+      s.rects = {{-1e3f, 0.0f, -1e3f, 1e3f, 0.3f}, {0.0f, 1e3f, -1e3f, 1e3f, 1.0f}};
+      rows.push_back(runCase(rast, t, "step", "occluders 0.3 | 1.0 at x = 0", s));
+    }
+  }
+  return rows;
+}
+
+std::string SatPrecisionRow::json() const {
+  engine::report::Json j;
+  j["suite"] = "shadows";
+  j["case"] = "sat precision";
+  j["table"] = table;
+  j["size"] = size;
+  j["queries"] = queries;
+  j["max_error"] = engine::report::jsonNumber(maxError);
+  j["max_relative"] = engine::report::jsonNumber(maxRelative);
+  j["max_bound_ratio"] = engine::report::jsonNumber(maxBoundRatio);
+  j["ok"] = ok();
+  return engine::report::jsonLine(j);
+}
+
+std::vector<SatPrecisionRow> runSatPrecision(int n) {
+  raster::Planes<float> p(n, n, 1);
+  const double span = 2.0 * (n - 1);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) p.pixel(x, y)[0] = static_cast<float>(std::exp(-80.0 * (x + y) / span));
+  // Boxes along the diagonal (where the values fall from 1 to e^-80), sizes 1 to 16 texels, at
+  // fractional corners; the last ones in the dimmest corner.
+  struct Box {
+    double x0, y0, x1, y1;
+  };
+  std::vector<Box> boxes;
+  for (int k = 0; k < 64; ++k) {
+    const double t = (k + 0.5) / 64.0, w = 1.0 + (k * 5) % 16, h = 1.0 + (k * 3) % 16;
+    const double x0 = std::min(t * (n - 20) + 0.37, n - w - 0.1), y0 = std::min(t * (n - 20) + 0.61, n - h - 0.1);
+    boxes.push_back({x0, y0, x0 + w + 0.25, y0 + h + 0.5});
+  }
+  const auto exact = [&](const Box& b) {
+    long double sum = 0;
+    for (int y = static_cast<int>(b.y0); y < static_cast<int>(std::ceil(b.y1)); ++y)
+      for (int x = static_cast<int>(b.x0); x < static_cast<int>(std::ceil(b.x1)); ++x) {
+        const double wx = std::min(b.x1, x + 1.0) - std::max(b.x0, static_cast<double>(x));
+        const double wy = std::min(b.y1, y + 1.0) - std::max(b.y0, static_cast<double>(y));
+        sum += static_cast<long double>(wx * wy) * static_cast<long double>(p.pixel(x, y)[0]);
+      }
+    return static_cast<double>(sum);
+  };
+  std::vector<SatPrecisionRow> rows;
+  // query(b, out, bound) -> area; the bound is of the sum.
+  const auto measure = [&](const std::string& name, const auto& query) {
+    SatPrecisionRow r{.table = name, .size = n};
+    for (const Box& b : boxes) {
+      double got = 0, bound = 0;
+      const double area = query(b, got, bound);
+      const double e = exact(b), err = std::abs(got - e);
+      ++r.queries;
+      r.maxError = std::max(r.maxError, err / area);
+      r.maxRelative = std::max(r.maxRelative, err / std::max(e, 1e-300));
+      r.maxBoundRatio = std::max(r.maxBoundRatio, bound > 0.0 ? err / bound : (err > 0.0 ? std::numeric_limits<double>::infinity() : 0.0));
+    }
+    rows.push_back(r);
+  };
+  {
+    const raster::MultiSat<float> t = raster::buildSatFloat(p);
+    measure("float", [&](const Box& b, double& got, double& bound) {
+      t.roundingBound(b.x1, b.y1, &bound);
+      return t.boxSum(b.x0, b.y0, b.x1, b.y1, &got);
+    });
+  }
+  {
+    const raster::MultiSat<double> t = raster::buildSatDouble(p);
+    measure("double", [&](const Box& b, double& got, double& bound) {
+      t.roundingBound(b.x1, b.y1, &bound);
+      // The float inputs are exact in double; the bound covers the table's own rounding.
+      return t.boxSum(b.x0, b.y0, b.x1, b.y1, &got);
+    });
+  }
+  for (int bits : {20, 24}) {
+    // One table over the map with the global range [0, 1] (the paper's normalization).
+    const double step = 1.0 / ((1u << bits) - 1u);
+    const raster::MultiSat<uint64_t> t = raster::buildSatInteger(raster::quantizePlanes(p, {0.0}, {1.0}, bits));
+    measure("integer mu " + std::to_string(bits), [&](const Box& b, double& got, double& bound) {
+      const double area = t.boxSum(b.x0, b.y0, b.x1, b.y1, &got);
+      got *= step;
+      bound = 0.5 * step * area;
+      return area;
+    });
+  }
+  for (int bits : {20, 24}) {
+    const raster::TiledSat t = raster::buildTiledSat(p, bits);
+    measure("tiled mu " + std::to_string(bits), [&](const Box& b, double& got, double& bound) {
+      return t.boxSum(b.x0, b.y0, b.x1, b.y1, &got, &bound);
+    });
   }
   return rows;
 }

@@ -9,7 +9,9 @@
 // V = the fraction of the light in front of the cube's face). Judged: no NaN or Inf and V in
 // [0, 1]. Reported: the light bleeding (largest V where the receiver is in full umbra), the
 // over-darkening (smallest V where it is fully lit) and, for the exact cases, the RMSE and the bias
-// (signed mean: > 0 too bright) against the exact V.
+// (signed mean: > 0 too bright) against the exact V. Two more cases: a light far wider than the
+// map's extent (every kernel wider than the map) and a step (two occluders at different heights
+// meeting edge to edge: non-planar blockers).
 // Thread-safety: runs in the given rasterizer's arena; one suite at a time per rasterizer.
 #pragma once
 
@@ -35,5 +37,22 @@ struct ShadowStressRow {
 };
 
 std::vector<ShadowStressRow> runShadowStress(raster::Rasterizer& rast);
+
+// The summed-area tables of the pre-filtered techniques (raster/sat.h) at 4096^2 on an ESSM-like
+// image: exp(-80 u) with u rising from 0 at one corner to 1 at the other (values from 1 down to
+// e^-80), queried by boxes of 1 to 16 texels at fractional positions along the diagonal, against
+// the brute-force area-weighted sum in long double. Per table: the worst error of the box mean,
+// the worst error relative to the exact mean, and the worst ratio of the error to the table's
+// stated bound (quantization for integer and tiled, rounding for float and double; <= 1 is right).
+struct SatPrecisionRow {
+  std::string table;
+  int size = 0;
+  size_t queries = 0;
+  double maxError = 0, maxRelative = 0, maxBoundRatio = 0;
+  bool ok() const { return std::isfinite(maxError) && maxBoundRatio <= 1.0; }
+  std::string json() const;
+};
+
+std::vector<SatPrecisionRow> runSatPrecision(int size = 4096);
 
 }  // namespace penumbra::apps

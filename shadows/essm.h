@@ -8,7 +8,8 @@
 //    (`sat=tiled`, raster/sat.h: mu-bit integers per tile, T = 2^floor((32 - mu) / 2); only the
 //    tiles a receiver's search box reaches are built), or one table over the map in exact integers
 //    (`sat=integer`, the paper's global normalization), double or float.
-// 3. Evaluate (msEvaluate), per receiver at normalized depth z_r, with k = exp(c (z_max - z_r)):
+// 3. Evaluate (msEvaluate), per receiver at normalized depth z_r (its unbiased tangent plane: the
+//    receiver's own surface must read 1, not exp(c bias)), with k = exp(c (z_max - z_r)):
 //    - blocker search over the search box w_avg (the light's frustum from the receiver cut at the
 //      near plane): s_f = k E[e] (the ESM test), and the average blocker depth (section 4.2)
 //          Z_occ = (E[z] - k E[e z]) / (1 - s_f);
@@ -19,6 +20,10 @@
 //      not planar (texels behind the receiver inside it); it is split into n x n sub-kernels, and
 //      those still above 1 + eps take a 2 x 2 PCF (lit fraction and mean blocker depth of four taps)
 //      instead; the kernel's results combine as the paper's d = sum d_i (1 - s_i) / sum (1 - s_i).
+//      Every kernel is split (`split=always`), or, in the paper's order, only where the whole is
+//      not planar (`split=adaptive`: faster, wrong blocker depths on complex occluders);
+//    - contact (Penumbra's): where exp(-c (z_r - Z_occ)) > leak_tolerance the ESM tail would
+//      leak; the penumbra kernel's n x n sub-kernels take PCF instead.
 //    The exponent: c = R / (z_max - z_min) (section 7) from the map's depth range (its min/max
 //    pyramid's top), or `exponent` when set. Bound: the stored values are in
 //    [exp(-c (z_max - z_min)), 1], never above 1, and c (z_max - z_min) <= 80 keeps the smallest a

@@ -39,27 +39,35 @@ TEST(Stress, ShadowSuiteFiniteAndInRange) {
   const std::vector<ShadowStressRow> rows = runShadowStress(r);
   size_t techniques = 0;
   for (const shadows::TechniqueInfo& t : shadows::registry()) techniques += t.isReference ? 0 : 1;
-  ASSERT_EQ(rows.size(), techniques * 12);
+  ASSERT_EQ(rows.size(), techniques * 14);
   for (const ShadowStressRow& row : rows) {
     EXPECT_TRUE(row.ok()) << row.json();
     const bool exact =
         row.name == "terminator" || row.name == "above caster" || (row.name == "contact" && row.param[0] == 'c');
-    if (!exact) EXPECT_EQ(row.receivers, 48u * 48u);
-    if (exact) EXPECT_TRUE(std::isfinite(row.rmse)) << row.json();
+    if (!exact) {
+      EXPECT_EQ(row.receivers, 48u * 48u);
+    } else {
+      EXPECT_TRUE(std::isfinite(row.rmse)) << row.json();
+    }
     // Receivers 1e-4 above a caster's surface, flat or sloped: no acne (hard shadows' V is 0 or 1,
     // the point-light limit, not the fraction).
-    if (row.name == "above caster" && row.technique != "hard") EXPECT_LT(row.rmse, 0.05) << row.json();
+    if (row.name == "above caster" && row.technique != "hard") {
+      EXPECT_LT(row.rmse, 0.05) << row.json();
+    }
     // The terminator of a sphere alone: within 0.05 RMSE of the clipped-polygon fraction.
     // ESSM's ESM tail darkens the sphere's own grazing surface a little more (0.061 measured at 5
     // degrees): held at 0.065.
-    if (row.name == "terminator" && row.technique != "hard")
+    if (row.name == "terminator" && row.technique != "hard") {
       EXPECT_LT(row.rmse, row.technique == "essm" ? 0.065 : 0.06) << row.json();
+    }
     // Contact at the foot of a cube: no technique leaks more than 0.1 on average (the goal).
     // The summed-area-table techniques miss it (docs/techniques/essm.md, vssm.md): their measured
     // leak is held instead.
     const bool satFamily =
         row.technique == "essm" || row.technique == "vssm" || row.technique == "savsm" || row.technique == "cssm";
-    if (row.name == "contact" && row.param[0] == 'c') EXPECT_LT(row.bias, satFamily ? 0.35 : 0.1) << row.json();
+    if (row.name == "contact" && row.param[0] == 'c') {
+      EXPECT_LT(row.bias, satFamily ? 0.35 : 0.1) << row.json();
+    }
     EXPECT_GE(row.bleed, 0.0);
     EXPECT_LE(row.bleed, 1.0);
     // The depth-range cases have a clear umbra under the low occluder: no technique leaks there,
@@ -74,8 +82,31 @@ TEST(Stress, ShadowSuiteFiniteAndInRange) {
       const double held = row.technique == "pfsvsm" ? 0.8 : row.technique == "cssm" ? 0.4 : 0.05;
       EXPECT_LT(row.bleed, held) << row.json();
     }
+    // A step between two occluders: the receivers under it are in umbra. The one-box Chebyshev
+    // bound of savsm and pfsvsm lets 0.11-0.12 through at the step (held at 0.15).
+    if (row.name == "step") {
+      EXPECT_GT(row.umbra, 1000u) << row.json();
+      EXPECT_LT(row.bleed, row.technique == "savsm" || row.technique == "pfsvsm" ? 0.15 : 0.05) << row.json();
+    }
     if (row.name == "bleeding") {
       EXPECT_GT(row.umbra, 10u) << row.json();
+    }
+  }
+}
+
+// The summed-area tables at 4096^2 on exp(-80 u): every table within its stated bound; the tile
+// grid keeps the dim corner's values (relative error < 1e-6) where the float, double and
+// whole-map integer tables lose them entirely.
+TEST(Stress, SatPrecisionWithinTheStatedBounds) {
+  const std::vector<SatPrecisionRow> rows = runSatPrecision();
+  ASSERT_EQ(rows.size(), 6u);
+  for (const SatPrecisionRow& r : rows) {
+    EXPECT_TRUE(r.ok()) << r.json();
+    EXPECT_EQ(r.queries, 64u);
+    if (r.table.starts_with("tiled")) {
+      EXPECT_LT(r.maxRelative, 1e-6) << r.json();
+    } else {
+      EXPECT_GT(r.maxRelative, 0.5) << r.json();
     }
   }
 }
