@@ -25,6 +25,19 @@ struct Counts {
   size_t kernels = 0, lit = 0, blocked = 0;
 };
 
+// sin and cos of c_k u = (2k + 1) pi u for k < m, interleaved: one sincos pair and m - 1 rotations
+// by 2 pi u (the angle-addition recurrence; its rounding grows by about one ulp per term).
+void basis(double u, int m, double* out) {
+  const double a = std::numbers::pi * u;
+  double s = std::sin(a), c = std::cos(a);
+  const double s2 = 2.0 * s * c, c2 = c * c - s * s;
+  for (int k = 0; k < m; ++k) {
+    out[2 * k] = s, out[2 * k + 1] = c;
+    const double ns = s * c2 + c * s2;
+    c = c * c2 - s * s2, s = ns;
+  }
+}
+
 class Cssm final : public Technique {
  public:
   void prepare(ShadowContext& ctx, const ParamSet& params) override {
@@ -41,7 +54,6 @@ class Cssm final : public Technique {
     for (int k = 0; k < order_; ++k) {
       const double ck = std::numbers::pi * (2 * k + 1);
       const double kk = static_cast<double>(k + 1) / order_;
-      ck_[k] = ck;
       wk_[k] = 2.0 * std::exp(-alpha * kk * kk) / ck;
     }
     preparePrefilterMap(ctx, params, m_);
@@ -64,8 +76,10 @@ class Cssm final : public Technique {
             }
             // Layout: sin_k, cos_k (k < M), u sin_k, u cos_k (k < M'), u, o.
             const double u = std::clamp((static_cast<double>(zf) - lo_) / range_, 0.0, 1.0);
+            double sc[2 * kMaxOrder];
+            basis(u, order_, sc);
             for (int k = 0; k < order_; ++k) {
-              const double s = std::sin(ck_[k] * u), c = std::cos(ck_[k] * u);
+              const double s = sc[2 * k], c = sc[2 * k + 1];
               p[2 * k] = static_cast<float>(s), p[2 * k + 1] = static_cast<float>(c);
               if (k < blockerOrder_)
                 p[2 * order_ + 2 * k] = static_cast<float>(u * s),
@@ -159,8 +173,10 @@ class Cssm final : public Technique {
         // sum over occupied texels of H - 1/2 and of u (H - 1/2).
         double h = 0, uh = 0;
         const int terms = search ? blockerOrder_ : order_;
+        double rb[2 * kMaxOrder];
+        basis(ur, terms, rb);
         for (int t = 0; t < terms; ++t) {
-          const double cr = std::cos(ck_[t] * ur), sr = std::sin(ck_[t] * ur);
+          const double sr = rb[2 * t], cr = rb[2 * t + 1];
           h += wk_[t] * (s[2 * t] * cr - s[2 * t + 1] * sr);
           if (search) uh += wk_[t] * (s[2 * order_ + 2 * t] * cr - s[2 * order_ + 2 * t + 1] * sr);
         }
@@ -184,7 +200,7 @@ class Cssm final : public Technique {
   BiasParams bias_;
   bool usePlane_ = true, bounds_ = true;
   int n_ = 3, order_ = 4, blockerOrder_ = 4, channels_ = 0;
-  double ck_[kMaxOrder] = {}, wk_[kMaxOrder] = {};
+  double wk_[kMaxOrder] = {};
   double offset_ = 0, sharpenA_ = 0, sharpenB_ = 10, lo_ = 0, range_ = 1;
   raster::MultiSat<double> sat_;
   tbb::enumerable_thread_specific<Counts> counts_;
