@@ -152,19 +152,12 @@ class Cssm final : public Technique {
         const double occ = s[channels_ - 1], uSum = s[channels_ - 2];
         r.area += a;
         if (bounds_) {
-          float mn = 0, mx = 0;
-          int cov[4];
-          raster::queryMinMax(m_.pyramid, static_cast<int>(std::floor(sx0)),
-                              static_cast<int>(std::floor(sy0)), static_cast<int>(std::ceil(sx1)),
-                              static_cast<int>(std::ceil(sy1)), mn, mx, cov);
-          const double p00 = k.zrAt(m_, cov[0], cov[1]), p10 = k.zrAt(m_, cov[2], cov[1]);
-          const double p01 = k.zrAt(m_, cov[0], cov[3]), p11 = k.zrAt(m_, cov[2], cov[3]);
-          const double lo = std::min({p00, p10, p01, p11}), hi = std::max({p00, p10, p01, p11});
-          if (static_cast<double>(mn) >= hi) {
+          const PlaneBounds pb = planeBounds(m_, m_.pyramid, k, sx0, sy0, sx1, sy1);
+          if (pb.mn >= pb.hi) {
             r.lit += a, ++counts.lit;
             continue;
           }
-          if (static_cast<double>(mx) < lo) {  // every texel a blocker: its mean depth is u's
+          if (pb.mx < pb.lo) {  // every texel a blocker: its mean depth is u's
             r.occWeight += occ, r.occDepth += lo_ * occ + range_ * uSum, r.lit += a - occ, ++counts.blocked;
             continue;
           }

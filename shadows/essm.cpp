@@ -269,13 +269,8 @@ class Essm final : public Technique {
     if (planar && minMaxTest_) {
       // Over the texels the pyramid's bounds cover (a little more than the box): the plane's
       // largest depth there is at a corner (1/d is linear in the map, so d is monotone along lines).
-      float mn = 0, mx = 0;
-      int cov[4];
-      raster::queryMinMax(occupied_, static_cast<int>(std::floor(x0)), static_cast<int>(std::floor(y0)),
-                          static_cast<int>(std::ceil(x1)), static_cast<int>(std::ceil(y1)), mn, mx, cov);
-      const double planeMax = std::max({k.zrAt(m_, cov[0], cov[1]), k.zrAt(m_, cov[2], cov[1]),
-                                        k.zrAt(m_, cov[0], cov[3]), k.zrAt(m_, cov[2], cov[3])});
-      planar = static_cast<double>(mx) <= planeMax + k.biasZ + behindTolerance_;
+      const PlaneBounds pb = planeBounds(m_, occupied_, k, x0, y0, x1, y1);
+      planar = pb.mx <= pb.hi + k.biasZ + behindTolerance_;
     }
     const double lit = std::min(raw, 1.0);
     r.area = s.area;

@@ -18,6 +18,7 @@
 // Thread-safety: a PrefilterMap is written by preparePrefilterMap and immutable afterwards.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <glm/ext/vector_double2.hpp>
@@ -77,6 +78,24 @@ inline double ReceiverKernel::zrAt(const PrefilterMap& m, double x, double y) co
 
 ReceiverKernel receiverKernel(const PrefilterMap& m, const ShadowContext& ctx, const Receiver& r,
                               BiasParams b, bool usePlane);
+// A box [x0, x1) x [y0, y1) against a min/max pyramid of the map's depths (HSM): mn, mx bound the
+// texels the pyramid covers (a little more than the box), lo, hi the receiver plane's depth there
+// (at the covered rectangle's corners: 1/d is linear in the map, so d is monotone along lines).
+struct PlaneBounds {
+  double mn = 0, mx = 0, lo = 0, hi = 0;
+};
+inline PlaneBounds planeBounds(const PrefilterMap& m, const raster::MinMaxPyramid& pyramid, const ReceiverKernel& k,
+                               double x0, double y0, double x1, double y1) {
+  float mn = 0, mx = 0;
+  int cov[4];
+  raster::queryMinMax(pyramid, static_cast<int>(std::floor(x0)), static_cast<int>(std::floor(y0)),
+                      static_cast<int>(std::ceil(x1)), static_cast<int>(std::ceil(y1)), mn, mx, cov);
+  const double p00 = k.zrAt(m, cov[0], cov[1]), p10 = k.zrAt(m, cov[2], cov[1]);
+  const double p01 = k.zrAt(m, cov[0], cov[3]), p11 = k.zrAt(m, cov[2], cov[3]);
+  return {static_cast<double>(mn), static_cast<double>(mx), std::min(std::min(p00, p10), std::min(p01, p11)),
+          std::max(std::max(p00, p10), std::max(p01, p11))};
+}
+
 // Penumbra half-extents in texels for a blocker at normalized depth zb, at least minHalf texels.
 glm::dvec2 penumbraHalf(const PrefilterMap& m, const ShadowContext& ctx, const ReceiverKernel& k, double zb,
                         double minHalf = 0.5);

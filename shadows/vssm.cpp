@@ -85,17 +85,10 @@ class VarianceSat {
         const double zc = k.zrAt(m_, 0.5 * (sx0 + sx1), 0.5 * (sy0 + sy1));
         double s = -1.0;
         if (bounds) {
-          float mn = 0, mx = 0;
-          int cov[4];
-          raster::queryMinMax(m_.pyramid, static_cast<int>(std::floor(sx0)),
-                              static_cast<int>(std::floor(sy0)), static_cast<int>(std::ceil(sx1)),
-                              static_cast<int>(std::ceil(sy1)), mn, mx, cov);
-          const double p00 = k.zrAt(m_, cov[0], cov[1]), p10 = k.zrAt(m_, cov[2], cov[1]);
-          const double p01 = k.zrAt(m_, cov[0], cov[3]), p11 = k.zrAt(m_, cov[2], cov[3]);
-          const double lo = std::min({p00, p10, p01, p11}), hi = std::max({p00, p10, p01, p11});
-          if (static_cast<double>(mn) >= hi)
+          const PlaneBounds pb = planeBounds(m_, m_.pyramid, k, sx0, sy0, sx1, sy1);
+          if (pb.mn >= pb.hi)
             s = 1.0, ++counts.lit;
-          else if (static_cast<double>(mx) < lo)
+          else if (pb.mx < pb.lo)
             s = 0.0, ++counts.blocked;
         }
         double zOcc = mean;
