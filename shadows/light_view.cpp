@@ -273,7 +273,7 @@ glm::vec3 boxCorner(const LightRegion& r, int c) {
 }  // namespace
 
 LightView makeLightView(const RectLight& light, const LightRegion& region, glm::vec2 lightPoint, float znear,
-                        int width, int height) {
+                        int width, int height, glm::vec2 margin) {
   glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
   for (int c = 0; c < 8; ++c) {
     const glm::vec3 p = boxCorner(region, c);
@@ -281,8 +281,8 @@ LightView makeLightView(const RectLight& light, const LightRegion& region, glm::
     lo = glm::min(lo, t);
     hi = glm::max(hi, t);
   }
-  return finishView(light, light.center + lightPoint.x * light.right + lightPoint.y * light.up, lo, hi, znear, width,
-                    height);
+  return finishView(light, light.center + lightPoint.x * light.right + lightPoint.y * light.up, lo - margin,
+                    hi + margin, znear, width, height);
 }
 
 LightView makeContainingView(const RectLight& light, const LightRegion& region, const LightView& sample, float znear,

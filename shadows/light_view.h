@@ -121,9 +121,10 @@ struct LightView {
 
 // The view from the light-space point (lightPoint.x, lightPoint.y, 0) (world units from the
 // light centre along right and up) on the light, fitted to the region's receivers,
-// width x height texels. Its near plane is `znear` (> 0).
+// width x height texels. Its near plane is `znear` (> 0). `margin` (tangent units) widens the
+// frustum on every side beyond the receivers (for occluders a receiver sees outside them).
 LightView makeLightView(const RectLight& light, const LightRegion& region, glm::vec2 lightPoint, float znear,
-                        int width, int height);
+                        int width, int height, glm::vec2 margin = glm::vec2(0.0f));
 
 // The source view of view-warped multi-view shadows (Marrs et al. 2018, section 3.1): from behind
 // the light's centre, moved back along the normal by D (Eq. 1, from `sample`'s field of view) so

@@ -1,5 +1,6 @@
 #include "shadows/registry_list.h"
 
+#include "shadows/backproj.h"
 #include "shadows/cssm.h"
 #include "shadows/esm.h"
 #include "shadows/essm.h"
@@ -19,7 +20,7 @@ namespace penumbra::shadows {
 std::vector<TechniqueInfo> allTechniques() {
   return {hardTechnique(), pcfTechnique(), pcssTechnique(), vsmTechnique(), evsm2Technique(), evsm4Technique(),
           esmTechnique(), essmTechnique(),
-          savsmTechnique(), vssmTechnique(), cssmTechnique(), pfsvsmTechnique(), mvrTechnique(), vwssTechnique(), referenceTechnique()};
+          savsmTechnique(), vssmTechnique(), cssmTechnique(), pfsvsmTechnique(), backprojTechnique(), mvrTechnique(), vwssTechnique(), referenceTechnique()};
 }
 
 }  // namespace penumbra::shadows

@@ -1,6 +1,7 @@
 #include "shadows/shadow_map.h"
 
 #include <cmath>
+#include <cstdio>
 
 namespace penumbra::shadows {
 
@@ -16,6 +17,33 @@ void renderDepthMap(ShadowContext& ctx, ShadowMap& map) {
   const glm::mat4 m = map.view.viewProj;
   ctx.mapPasses += ctx.raster.drawDepth(desc, map.depth, [&](uint32_t i) { return m * glm::vec4(pos[i], 1.0f); });
   map.prepareLookup();
+}
+
+WidenedView widenedView(const ShadowContext& ctx, int size) {
+  const LightView fitted = makeLightView(ctx.in.light, ctx.region, glm::vec2(0.0f), ctx.nearPlane(), size, size);
+  const float nearest = std::max(ctx.casters.minDepth, fitted.znear);
+  const glm::vec2 ext = fitted.tanHi - fitted.tanLo;
+  const glm::vec2 margin =
+      glm::min(1.5f * ext, 0.5f * glm::vec2(ctx.in.light.width, ctx.in.light.height) *
+                               std::max(1.0f / nearest - 1.0f / std::max(ctx.region.hi.z, nearest), 0.0f));
+  auto side = [&](float e, float m) {
+    return static_cast<int>(
+        std::min(2.0 * size, std::ceil(static_cast<double>(size) * static_cast<double>((e + 2.0f * m) / e))));
+  };
+  WidenedView w;
+  w.margin = margin;
+  w.view = makeLightView(ctx.in.light, ctx.region, glm::vec2(0.0f), ctx.nearPlane(), side(ext.x, margin.x),
+                         side(ext.y, margin.y), margin);
+  const glm::vec2 grown = (w.view.tanHi - w.view.tanLo) / ext;
+  const double density =
+      std::min(static_cast<double>(w.view.width) / (static_cast<double>(size) * static_cast<double>(grown.x)),
+               static_cast<double>(w.view.height) / (static_cast<double>(size) * static_cast<double>(grown.y)));
+  char line[160];
+  std::snprintf(line, sizeof line,
+                " (frustum widened %.2fx%.2f for occluders beside the receivers, %.2f of map_size's texel density)",
+                static_cast<double>(grown.x), static_cast<double>(grown.y), density);
+  w.note = line;
+  return w;
 }
 
 void ShadowMap::prepareLookup() {

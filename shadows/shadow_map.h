@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "raster/depth_target.h"
@@ -76,6 +77,19 @@ struct ShadowMap {
 // Renders the context's kept casters into map.depth from map.view (a depth-only pass, no culling,
 // DepthFunc::Greater, cleared to 0) and adds the pass's stats to ctx.mapPasses.
 void renderDepthMap(ShadowContext& ctx, ShadowMap& map);
+
+// A view from the light centre for techniques that look for occluders beside the receivers (a
+// receiver sees the light through the map region of its search area, which reaches past the
+// receivers' box): the frustum fitted to the receivers grows on each side by the largest search
+// area (the farthest receiver, the nearest caster), at most 1.5 times the receivers' extent, and the
+// resolution with it up to twice `size` per side (the texel density then halves at worst; beyond
+// the frustum the edge texels stand for what lies there); note says how much it grew.
+struct WidenedView {
+  LightView view;
+  glm::vec2 margin{0.0f};
+  std::string note;  // " (frustum widened AxB for occluders beside the receivers, D of ...)"
+};
+WidenedView widenedView(const ShadowContext& ctx, int size);
 
 struct BiasParams {
   float constant = 1.0f;  // texels

@@ -118,6 +118,17 @@ std::string ParamSet::all() const {
 
 // ---- Context, registry, driver ------------------------------------------------------------------
 
+ParamSpec choiceParam(std::string name, int defaultIndex, std::vector<std::string> choices, std::string help) {
+  const double last = static_cast<double>(choices.size() - 1);
+  return {.name = std::move(name),
+          .kind = ParamKind::Choice,
+          .defaultValue = static_cast<double>(defaultIndex),
+          .minValue = 0,
+          .maxValue = last,
+          .choices = std::move(choices),
+          .help = std::move(help)};
+}
+
 float ShadowContext::nearPlane() const {
   // Views start at the light plane; the nearest kept caster bounds how far the near plane may go.
   const float farthest = std::max(region.hi.z, 1e-6f);

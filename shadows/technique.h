@@ -41,6 +41,9 @@ struct ParamSpec {
   std::string help;
 };
 
+// A Choice parameter: `choices[defaultIndex]` unless set.
+ParamSpec choiceParam(std::string name, int defaultIndex, std::vector<std::string> choices, std::string help);
+
 // Values for a list of specs, each validated against its range when set.
 class ParamSet {
  public:

@@ -1,0 +1,441 @@
+#include "shadows/backproj.h"
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "shadows/sampling.h"
+#include "shadows/shadow_map.h"
+
+namespace penumbra::shadows {
+
+namespace {
+
+// Light samples and occluder rectangles live on a kBins x kBins lattice of the light: sample i at
+// bin (qx, qy) stands for the point ((qx + 0.5) / kBins, (qy + 0.5) / kBins) of the light's uv.
+constexpr int kBins = 1024;
+
+// The first bin whose sample position is >= u (u in [0, 1]): samples in [u0, u1) are the bins in
+// [binAt(u0), binAt(u1)).
+inline int binAt(float u) {
+  return std::clamp(static_cast<int>(std::ceil(u * static_cast<float>(kBins) - 0.5f)), 0, kBins);
+}
+
+// K = 64 W samples, jittered in the cells of a gx x gy grid (gx gy = K), as bitmasks: geX[t] holds
+// the samples whose x bin is >= t (t in [0, kBins]), W words each; so are those in bins [a, b)
+// geX[a] & ~geX[b].
+struct LightBits {
+  int words = 1;
+  std::vector<uint16_t> qx, qy;
+  std::vector<uint64_t> geX, geY;
+
+  explicit LightBits(int samples) : words(samples / 64) {
+    const int gx = 1 << ((std::countr_zero(static_cast<unsigned>(samples)) + 1) / 2), gy = samples / gx;
+    for (int i = 0; i < samples; ++i) {
+      const auto u = static_cast<uint32_t>(i);
+      const float jx = unitFloat(hash3(u, 0xba5eu, static_cast<uint32_t>(samples)));
+      const float jy = unitFloat(hash3(u, 0xba5fu, static_cast<uint32_t>(samples)));
+      const float x = (static_cast<float>(i % gx) + jx) / static_cast<float>(gx);
+      const float y = (static_cast<float>(i / gx) + jy) / static_cast<float>(gy);
+      qx.push_back(static_cast<uint16_t>(std::min(kBins - 1, static_cast<int>(x * kBins))));
+      qy.push_back(static_cast<uint16_t>(std::min(kBins - 1, static_cast<int>(y * kBins))));
+    }
+    geX = suffixMasks(qx);
+    geY = suffixMasks(qy);
+  }
+
+ private:
+  std::vector<uint64_t> suffixMasks(const std::vector<uint16_t>& q) const {
+    const auto w = static_cast<size_t>(words);
+    std::vector<uint64_t> ge((kBins + 1) * w, 0);
+    for (int t = kBins - 1; t >= 0; --t)
+      for (size_t k = 0; k < w; ++k)
+        ge[static_cast<size_t>(t) * w + k] = ge[static_cast<size_t>(t + 1) * w + k];
+    for (size_t i = 0; i < q.size(); ++i)
+      for (int t = 0; t <= q[i]; ++t) ge[static_cast<size_t>(t) * w + i / 64] |= uint64_t{1} << (i % 64);
+    return ge;
+  }
+};
+
+// Bins [a, b) of the lattice after the pixel's toroidal shift s (sample bin q is at (q + s) mod
+// kBins): as at most two intervals of unshifted bins, OR'ed into out.
+template <int W>
+inline void orShifted(const uint64_t* ge, int a, int b, int s, uint64_t* out) {
+  auto orRange = [&](int lo, int hi) {
+    const uint64_t *l = ge + static_cast<ptrdiff_t>(lo) * W, *h = ge + static_cast<ptrdiff_t>(hi) * W;
+    for (int k = 0; k < W; ++k) out[k] |= l[k] & ~h[k];
+  };
+  a -= s, b -= s;
+  if (a >= 0)
+    orRange(a, b);
+  else if (b <= 0)
+    orRange(a + kBins, b + kBins);
+  else
+    orRange(0, b), orRange(a + kBins, kBins);
+}
+
+struct Counts {
+  uint64_t searched = 0, texels = 0, patches = 0, lit = 0, blocked = 0, capped = 0;
+};
+
+enum class Occlusion { Bitmask, Area };
+
+// The receiver-plane test of shadow_map.h (a texel blocks when its stored value exceeds the
+// threshold) without ReceiverPlane's upper clamp: a search area reaches far along a steep
+// receiver plane, to where the plane comes nearer the light than half the receiver's depth;
+// clamped there, the plane's own texels would be blockers.
+struct BlockerPlane {
+  TapPlane p;
+  float threshold(float tanX, float tanY) const {
+    return p.scale * std::max(p.lo, p.a * tanX + p.b * tanY + p.c);
+  }
+};
+
+class Backproj final : public Technique {
+ public:
+  void prepare(ShadowContext& ctx, const ParamSet& params) override {
+    const auto t0 = Clock::now();
+    bias_ = biasParams(params);
+    const int size = params.integer("map_size");
+    occlusion_ = params.choice("occlusion") == "area" ? Occlusion::Area : Occlusion::Bitmask;
+    samples_ = std::stoi(params.choice("samples"));
+    cap_ = params.integer("search_cap");
+    minMax_ = params.choice("minmax") == "on";
+    gapFill_ = params.choice("gap_fill") == "on";
+    // The map must hold every occluder a receiver's search area reaches, not only what lies in
+    // front of the receivers (widenedView).
+    const WidenedView wide = widenedView(ctx, size);
+    map_.view = wide.view;
+    renderDepthMap(ctx, map_);
+    ctx.times.msMaps += msSince(t0);
+    const auto t1 = Clock::now();
+    ctx.raster.run([&] { pyramid_ = raster::buildMinMaxPyramid(map_.depth.image()); });
+    if (occlusion_ == Occlusion::Bitmask) bits_ = LightBits(samples_);
+    ctx.times.msFilter += msSince(t1);
+    ctx.notes.push_back("backproj: 1 depth map " + std::to_string(map_.view.width) + "x" + std::to_string(map_.view.height) + wide.note +
+                        ", micropatches, " +
+                        (occlusion_ == Occlusion::Area
+                             ? std::string("area accumulation")
+                             : "bitmask of " + std::to_string(samples_) + " light samples") +
+                        ", search cap " + std::to_string(cap_) + " texels");
+  }
+
+  void evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) override {
+    const auto t0 = Clock::now();
+    tbb::enumerable_thread_specific<Counts> counts;
+    if (occlusion_ == Occlusion::Area) {
+      forEachReceiver(ctx, visibility,
+                      [&](int, int, const Receiver& r) { return receiver<0>(ctx, r, 0, 0, counts.local()); });
+    } else {
+      forEachReceiver(
+          ctx, visibility,
+          [&](int x, int y, const Receiver& r) {
+            const auto sx =
+                static_cast<int>(hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0xbac1u) % kBins);
+            const auto sy =
+                static_cast<int>(hash3(static_cast<uint32_t>(x), static_cast<uint32_t>(y), 0xbac2u) % kBins);
+            Counts& c = counts.local();
+            switch (bits_.words) {
+              case 1:
+                return receiver<1>(ctx, r, sx, sy, c);
+              case 2:
+                return receiver<2>(ctx, r, sx, sy, c);
+              case 4:
+                return receiver<4>(ctx, r, sx, sy, c);
+              case 8:
+                return receiver<8>(ctx, r, sx, sy, c);
+              default:
+                return receiver<16>(ctx, r, sx, sy, c);
+            }
+          },
+          SelfShadow::Handled);
+    }
+    ctx.times.msEvaluate += msSince(t0);
+    Counts sum;
+    counts.combine_each([&](const Counts& c) {
+      sum.searched += c.searched, sum.texels += c.texels, sum.patches += c.patches;
+      sum.lit += c.lit, sum.blocked += c.blocked, sum.capped += c.capped;
+    });
+    const double n = static_cast<double>(std::max<uint64_t>(sum.searched, 1));
+    char line[320];
+    std::snprintf(
+        line, sizeof line,
+        "backproj: %llu receivers searched, %.1f texels and %.1f micropatches each; %llu lit and %llu "
+        "blocked by the min/max test without micro-occluders; %llu over the search cap (coarser level)",
+        static_cast<unsigned long long>(sum.searched), static_cast<double>(sum.texels) / n,
+        static_cast<double>(sum.patches) / n, static_cast<unsigned long long>(sum.lit),
+        static_cast<unsigned long long>(sum.blocked), static_cast<unsigned long long>(sum.capped));
+    ctx.notes.push_back(line);
+  }
+
+ private:
+  // V of one receiver; W = 0: area accumulation, else a bitmask of W words, shifted by (sx, sy).
+  template <int W>
+  float receiver(const ShadowContext& ctx, const Receiver& r, int sx, int sy, Counts& c) const {
+    std::array<uint64_t, (W > 0 ? W : 1)> mask{};
+    if constexpr (W > 0) {
+      if (!horizonBits<W>(ctx.in.light, r, sx, sy, mask.data())) return 0.0f;
+    }
+    const LightView& view = map_.view;
+    const glm::vec3 v = lookupPoint(view, r, bias_);
+    if (v.z <= view.znear) return visible<W>(mask.data());
+    const ReceiverPlane plane(view, v, r.normal, bias_);
+    const float dr = v.z, tpx = v.x / v.z, tpy = v.y / v.z;
+    const glm::vec2 halfLight(0.5f * ctx.in.light.width, 0.5f * ctx.in.light.height);
+    // 1. The search area, shrunk twice by the nearest depth the pyramid finds in it.
+    glm::vec2 half = halfLight * std::max(1.0f / view.znear - 1.0f / dr, 0.0f);
+    for (int pass = 0; pass < 2; ++pass) {
+      float mn, mx;
+      raster::queryMinMax(pyramid_, map_.column(tpx - half.x), map_.row(tpy + half.y),
+                          map_.column(tpx + half.x) + 1, map_.row(tpy - half.y) + 1, mn, mx);
+      if (!(mx > 0.0f)) return visible<W>(mask.data());  // nothing drawn there
+      half = halfLight * std::max(mx / view.znear - 1.0f / dr, 0.0f);
+    }
+    const int c0 = map_.column(tpx - half.x), c1 = map_.column(tpx + half.x) + 1;
+    const int r0 = map_.row(tpy + half.y), r1 = map_.row(tpy - half.y) + 1;
+    const BlockerPlane blocker{plane.tapPlane()};
+    if (minMax_) {  // as testBox (shadow_map.h), with this plane
+      float mn, mx;
+      raster::queryMinMax(pyramid_, c0, r0, c1, r1, mn, mx);
+      const float t00 = blocker.threshold(tpx - half.x, tpy - half.y),
+                  t01 = blocker.threshold(tpx - half.x, tpy + half.y);
+      const float t10 = blocker.threshold(tpx + half.x, tpy - half.y),
+                  t11 = blocker.threshold(tpx + half.x, tpy + half.y);
+      if (mx <= std::min(std::min(t00, t01), std::min(t10, t11)) * (1.0f - 1e-5f))
+        return ++c.lit, visible<W>(mask.data());
+      if (mn > std::max(std::max(t00, t01), std::max(t10, t11)) * (1.0f + 1e-5f)) return ++c.blocked, 0.0f;
+    }
+    ++c.searched;
+    // 2. The level at which the area is at most search_cap texels wide; its texels are visited and
+    // mixed ones refined (visit).
+    int level = 0;
+    while (std::max(c1 - c0, r1 - r0) > (cap_ << level) && level + 1 < pyramid_.levels()) ++level;
+    if (level > 0) ++c.capped;
+    Search<W> q{.plane = blocker,
+                .c = c,
+                .mask = mask,
+                .tx = tpx,
+                .ty = tpy,
+                .bx0 = tpx - half.x,
+                .bx1 = tpx + half.x,
+                .by0 = tpy - half.y,
+                .by1 = tpy + half.y,
+                .drNear = dr * view.znear,
+                .dr = dr,
+                .invW = 1.0f / ctx.in.light.width,
+                .invH = 1.0f / ctx.in.light.height,
+                .sx = sx,
+                .sy = sy};
+    for (int j = r0 >> level; j <= (r1 - 1) >> level; ++j)
+      for (int i = c0 >> level; i <= (c1 - 1) >> level; ++i)
+        if (visit<W>(q, level, i, j)) return 0.0f;
+    if constexpr (W == 0) return std::max(0.0f, 1.0f - q.area);
+    return visible<W>(q.mask.data());
+  }
+
+  // One receiver's search: its plane, position and search box (tangent units), what it has found.
+  template <int W>
+  struct Search {
+    const BlockerPlane& plane;
+    Counts& c;
+    std::array<uint64_t, (W > 0 ? W : 1)> mask;
+    float tx, ty, bx0, bx1, by0, by1, drNear, dr, invW, invH;
+    int sx, sy;
+    float area = 0.0f;
+  };
+
+  // Texel (i, j) of pyramid level `level`: skipped when no texel under it is a blocker (its nearest
+  // depth is behind the receiver plane at all four corners), one patch when every texel is (at the
+  // harmonic mean of its depth bounds), refined into its children otherwise; at level 0, a blocker
+  // by PCF's test at its centre. True once the light is wholly covered.
+  template <int W>
+  bool visit(Search<W>& q, int level, int i, int j) const {
+    const LightView& view = map_.view;
+    ++q.c.texels;
+    const auto l = static_cast<size_t>(level);
+    const float sMax = pyramid_.maxs[l].at(i, j), sMin = pyramid_.mins[l].at(i, j);
+    const int colLeft = i << level, colRight = std::min((i + 1) << level, view.width);
+    const int rowTop = j << level, rowBottom = std::min((j + 1) << level, view.height);
+    const float dtx = (view.tanHi.x - view.tanLo.x) / static_cast<float>(view.width);
+    const float dty = (view.tanHi.y - view.tanLo.y) / static_cast<float>(view.height);
+    float txLeft = view.tanLo.x + static_cast<float>(colLeft) * dtx;
+    float txRight = view.tanLo.x + static_cast<float>(colRight) * dtx;
+    float tyTop = view.tanHi.y - static_cast<float>(rowTop) * dty;
+    float tyBottom = view.tanHi.y - static_cast<float>(rowBottom) * dty;
+    float s = sMax;
+    if (level == 0) {
+      if (!(s > q.plane.threshold(0.5f * (txLeft + txRight), 0.5f * (tyTop + tyBottom)))) return false;
+    } else {
+      const float t00 = q.plane.threshold(txLeft, tyTop), t10 = q.plane.threshold(txRight, tyTop);
+      const float t01 = q.plane.threshold(txLeft, tyBottom), t11 = q.plane.threshold(txRight, tyBottom);
+      if (!(sMax > std::min(std::min(t00, t10), std::min(t01, t11)))) return false;  // no blocker under it
+      if (!(sMin > std::max(std::max(t00, t10), std::max(t01, t11)))) {              // mixed: its children
+        const int n = level - 1, cw = pyramid_.maxs[l - 1].width(), ch = pyramid_.maxs[l - 1].height();
+        for (int cj = 2 * j; cj < std::min(2 * j + 2, ch); ++cj)
+          for (int ci = 2 * i; ci < std::min(2 * i + 2, cw); ++ci)
+            if (visit<W>(q, n, ci, cj)) return true;
+        return false;
+      }
+      // Bitmask: the farthest; the nearest, sMax, bounds the rectangle too (below). Area
+      // accumulation, which counts overlaps, takes one patch at the harmonic mean (the mean of the
+      // stored near / depth).
+      s = W == 0 ? 0.5f * (sMin + sMax) : sMin;
+    }
+    // The map's edge texels stand for what lies beyond it, as a clamped lookup reads them (every
+    // technique here does): they reach to the search area's edge. Right for a surface that leaves
+    // the map (a wall beside the light); an occluder that covers the whole map grows with it.
+    if (colLeft == 0) txLeft = std::min(txLeft, q.bx0);
+    if (colRight == view.width) txRight = std::max(txRight, q.bx1);
+    if (rowTop == 0) tyTop = std::max(tyTop, q.by1);
+    if (rowBottom == view.height) tyBottom = std::min(tyBottom, q.by0);
+    const float denom = q.dr * s - view.znear;  // d_r (1 - z / d_r) s
+    if (!(denom > 0.0f)) return false;
+    // 3. The micropatch's rectangle on the light, in the light's uv: at level 0 the texel's square
+    // at its depth; with the bitmask, a coarse texel of blockers at depths [z_near, z_far] covers
+    // the bounding rectangle of its square's projections at both (its texels' patches lie between
+    // them: their union is covered, a little more where the depth varies; no crack opens inside).
+    const float f = q.drNear / denom;  // d_r z / (d_r - z)
+    const float g = level == 0 || W == 0 ? f : q.drNear / (q.dr * sMax - view.znear);
+    auto lo = [&](float t, float tp, float inv) { return std::min(f * (t - tp), g * (t - tp)) * inv + 0.5f; };
+    auto hi = [&](float t, float tp, float inv) { return std::max(f * (t - tp), g * (t - tp)) * inv + 0.5f; };
+    float u0 = lo(txLeft, q.tx, q.invW), u1 = hi(txRight, q.tx, q.invW);
+    float v0 = lo(tyBottom, q.ty, q.invH), v1 = hi(tyTop, q.ty, q.invH);
+    if (gapFill_) {
+      // Gap filling (Guennebaud et al. 2006): where a neighbouring texel is a blocker at another
+      // depth, the two patches' shared edge projects to two places on the light; the patch reaches
+      // to its neighbour's projection of that edge, so no light passes between them (a surface
+      // seen at a grazing angle is a staircase of patches otherwise).
+      auto edge = [&](int ni, int nj, float t, float tp, float inv) {
+        const float sn = blockerAt(q, level, ni, nj);
+        const float dn = q.dr * sn - view.znear;
+        return dn > 0.0f ? q.drNear / dn * (t - tp) * inv + 0.5f : NAN;
+      };
+      const float eL = edge(i - 1, j, txLeft, q.tx, q.invW), eR = edge(i + 1, j, txRight, q.tx, q.invW);
+      const float eT = edge(i, j - 1, tyTop, q.ty, q.invH), eB = edge(i, j + 1, tyBottom, q.ty, q.invH);
+      if (eL < u0) u0 = eL;  // false for NaN: no blocker there
+      if (eR > u1) u1 = eR;
+      if (eB < v0) v0 = eB;
+      if (eT > v1) v1 = eT;
+    }
+    if (u1 <= 0.0f || u0 >= 1.0f || v1 <= 0.0f || v0 >= 1.0f) return false;
+    ++q.c.patches;
+    const float cu0 = std::max(u0, 0.0f), cu1 = std::min(u1, 1.0f);
+    const float cv0 = std::max(v0, 0.0f), cv1 = std::min(v1, 1.0f);
+    if constexpr (W == 0) {
+      q.area += (cu1 - cu0) * (cv1 - cv0);
+      return q.area >= 1.0f;
+    } else {
+      std::array<uint64_t, W> xs{}, ys{};
+      orShifted<W>(bits_.geX.data(), binAt(cu0), binAt(cu1), q.sx, xs.data());
+      orShifted<W>(bits_.geY.data(), binAt(cv0), binAt(cv1), q.sy, ys.data());
+      uint64_t all = ~uint64_t{0};
+      for (size_t k = 0; k < static_cast<size_t>(W); ++k) q.mask[k] |= xs[k] & ys[k], all &= q.mask[k];
+      return all == ~uint64_t{0};
+    }
+  }
+
+  // The stored value of texel (i, j) of `level` as a gap-filling neighbour: its own (level 0) or
+  // its farthest (a coarse texel wholly of blockers; else its nearest), or 0 when it is outside the
+  // map or no blocker at its centre.
+  template <int W>
+  float blockerAt(const Search<W>& q, int level, int i, int j) const {
+    const auto l = static_cast<size_t>(level);
+    const raster::ImageFloat& mx = pyramid_.maxs[l];
+    if (i < 0 || j < 0 || i >= mx.width() || j >= mx.height()) return 0.0f;
+    const LightView& view = map_.view;
+    const float cx = 0.5f * static_cast<float>((i << level) + std::min((i + 1) << level, view.width));
+    const float cy = 0.5f * static_cast<float>((j << level) + std::min((j + 1) << level, view.height));
+    const float tx = view.tanLo.x + cx * (view.tanHi.x - view.tanLo.x) / static_cast<float>(view.width);
+    const float ty = view.tanHi.y - cy * (view.tanHi.y - view.tanLo.y) / static_cast<float>(view.height);
+    const float sMax = mx.at(i, j), threshold = q.plane.threshold(tx, ty);
+    if (!(sMax > threshold)) return 0.0f;
+    const float sMin = pyramid_.mins[l].at(i, j);
+    return sMin > threshold ? sMin : sMax;  // the farthest blocker depth it has, as far as known
+  }
+
+  // The unmarked fraction of the bitmask (W = 0: 1, area accumulation's start).
+  template <int W>
+  static float visible(const uint64_t* mask) {
+    if constexpr (W == 0) {
+      return 1.0f;
+    } else {
+      int set = 0;
+      for (int k = 0; k < W; ++k) set += std::popcount(mask[k]);
+      return static_cast<float>(64 * W - set) / static_cast<float>(64 * W);
+    }
+  }
+
+  // Marks the samples below r's tangent plane (dot(n, y - x) <= 0); false when that is all of them.
+  template <int W>
+  bool horizonBits(const RectLight& light, const Receiver& r, int sx, int sy, uint64_t* mask) const {
+    const glm::vec3 p = toLightSpace(light, r.position);
+    const glm::vec3 n(glm::dot(r.normal, light.right), glm::dot(r.normal, light.up),
+                      glm::dot(r.normal, light.normal()));
+    const float k = glm::dot(n, p);
+    const float hw = 0.5f * light.width, hh = 0.5f * light.height;
+    int above = 0;
+    for (float cx : {-hw, hw})
+      for (float cy : {-hh, hh}) above += n.x * cx + n.y * cy > k ? 1 : 0;
+    if (above == 4) return true;
+    if (above == 0) return false;
+    for (int i = 0; i < 64 * W; ++i) {
+      const auto ui = static_cast<size_t>(i);
+      const float u = (static_cast<float>((bits_.qx[ui] + sx) % kBins) + 0.5f) / kBins;
+      const float w = (static_cast<float>((bits_.qy[ui] + sy) % kBins) + 0.5f) / kBins;
+      if (!(n.x * (u - 0.5f) * light.width + n.y * (w - 0.5f) * light.height > k))
+        mask[i / 64] |= uint64_t{1} << (i % 64);
+    }
+    return true;
+  }
+
+  ShadowMap map_;
+  BiasParams bias_;
+  raster::MinMaxPyramid pyramid_;
+  LightBits bits_{64};
+  Occlusion occlusion_ = Occlusion::Bitmask;
+  int samples_ = 256, cap_ = 32;
+  bool minMax_ = true, gapFill_ = true;
+};
+
+}  // namespace
+
+TechniqueInfo backprojTechnique() {
+  std::vector<ParamSpec> p = depthMapParams(512);
+  p.push_back(choiceParam("occlusion", 0, {"bitmask", "area"},
+                          "light occlusion from the micropatches: a bitmask of light samples (overlaps count once) "
+                          "or summed clipped areas (overlaps count twice)"));
+  p.push_back(choiceParam("samples", 2, {"64", "128", "256", "512", "1024"}, "light samples of the bitmask"));
+  p.push_back({.name = "search_cap", .kind = ParamKind::Int, .defaultValue = 32, .minValue = 2, .maxValue = 8192,
+               .choices = {}, .help = "widest search area in texels; wider ones are searched at a coarser level"});
+  p.push_back(choiceParam("gap_fill", 1, {"off", "on"},
+                          "extend each micropatch to its blocking neighbours' projections (closes the cracks between "
+                          "patches at different depths; joins distinct occluders that touch in the map)"));
+  p.push_back(choiceParam("minmax", 1, {"off", "on"},
+                          "settle receivers whose search area is uniformly lit (same V) or blocked (V = 0, where the "
+                          "micropatches may leave cracks) by the min/max pyramid"));
+  return {.name = "backproj",
+          .summary =
+              "backprojection soft shadow mapping: micropatches from one depth map projected onto the light, "
+              "occlusion bitmask",
+          .params = std::move(p),
+          .benchSettings = {"samples=64", "", "samples=1024", "occlusion=area", "gap_fill=off",
+                            "search_cap=16", "search_cap=64"},
+          .isReference = false,
+          .make = [] { return std::make_unique<Backproj>(); },
+          // The widened map (up to 2 map_size per side): depth, its render target and the min/max
+          // pyramid, 16 bytes per texel; the bitmask's suffix tables.
+          .peakBytes = [](const ParamSet& params, uint64_t) -> uint64_t {
+            const auto side = 2 * static_cast<uint64_t>(params.integer("map_size"));
+            const auto words = static_cast<uint64_t>(std::stoi(params.choice("samples")) / 64);
+            return side * side * 16 + 2 * (kBins + 1) * words * 8;
+          }};
+}
+
+}  // namespace penumbra::shadows
