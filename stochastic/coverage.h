@@ -4,7 +4,7 @@
 // Time-continuous triangles: each vertex has a clip-space position at shutter open (t = 0) and at
 // shutter close (t = 1), linear in between: c(t) = c0 + (c1 - c0) t (clip space is a linear image
 // of world space for a fixed camera, so this is the world-space motion, projected).
-// Thin lens: a point on the lens at (u, v) in the unit disk, seen through as a pinhole whose image
+// Thin lens: a point on the lens at (u, v) in the unit disk (or square: sample_pattern.h LensShape), seen through as a pinhole whose image
 // plane is sheared so that the focus plane stays put, moves a clip-space vertex by
 //     x += u kx (w - F),  y += v ky (w - F),  z and w unchanged,
 // with F the focus distance (w is the view depth) and kx = R P00 / F, ky = R P11 / F for an aperture

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <stdexcept>
 
 #include "raster/bin.h"
@@ -48,9 +49,13 @@ void validate(const StochasticInput& in, const StochasticConfig& cfg, const Stat
     throw std::invalid_argument("stochastic: the static layer must have the output's size");
   if (cfg.pattern.fixed) {
     const Sample& f = *cfg.pattern.fixed;
-    if (!(f.t >= 0.0f && f.t < 1.0f) || !(f.u * f.u + f.v * f.v <= 1.0f))
-      throw std::invalid_argument("stochastic: a fixed sample needs t in [0, 1) and (u, v) in the unit disk");
+    const bool onLens = cfg.pattern.shape == LensShape::Square ? (std::abs(f.u) <= 1.0f && std::abs(f.v) <= 1.0f)
+                                                                : f.u * f.u + f.v * f.v <= 1.0f;
+    if (!(f.t >= 0.0f && f.t < 1.0f) || !onLens)
+      throw std::invalid_argument("stochastic: a fixed sample needs t in [0, 1) and (u, v) on the lens");
   }
+  if (cfg.pattern.blockStrata < 0 || cfg.pattern.blockStrata > kMaxBlockStrata)
+    throw std::invalid_argument("stochastic: block strata must be in [0, 8]");
   if (cfg.dualBlock < 1 || cfg.dualBlock > kMaxDualBlock || (cfg.dualBlock & (cfg.dualBlock - 1)) != 0)
     throw std::invalid_argument("stochastic: the dual-space block side must be a power of two in [1, 64]");
   if (cfg.timeStrata < 0 || cfg.timeStrata > kMaxTimeStrata || cfg.lensStrata < 0 || cfg.lensStrata > kMaxLensStrata)

@@ -1,5 +1,6 @@
 #include "stochastic/sample_pattern.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -19,6 +20,31 @@ uint64_t sampleHash(uint64_t a, uint64_t b, uint64_t c) {
 namespace {
 
 float fract(float x) { return x - std::floor(x); }
+
+// Block stratification (sample_pattern.h): pixel (x, y)'s cell of the n x n lens grid, jittered.
+void blockStratum(const SamplePattern& p, int x, int y, uint64_t pixel, Sample& o) {
+  const int n = p.blockStrata;
+  const auto bx = static_cast<uint32_t>(x / n), by = static_cast<uint32_t>(y / n);
+  const uint64_t block = (static_cast<uint64_t>(by) << 32) | bx;
+  int perm[kMaxBlockStrata * kMaxBlockStrata];
+  const int cells = n * n;
+  for (int k = 0; k < cells; ++k) perm[k] = k;
+  for (int k = cells - 1; k > 0; --k) {
+    const uint64_t h = sampleHash(block, p.frame, 0x200u + static_cast<uint64_t>(k));
+    const int j = static_cast<int>((h >> 32) % static_cast<uint64_t>(k + 1));
+    const int tmp = perm[k];
+    perm[k] = perm[j];
+    perm[j] = tmp;
+  }
+  const int cell = perm[(y % n) * n + (x % n)];
+  const uint64_t jitter = sampleHash(pixel, p.frame, 2);
+  const float fn = static_cast<float>(n);
+  const float a = (static_cast<float>(cell % n) + unitFloat(jitter)) / fn;
+  const float b = (static_cast<float>(cell / n) + unitFloat(jitter << 24)) / fn;
+  // a, b < 1 (unitFloat < 1 - 2^-24 and the cell index < n), so u, v stay in [-1, 1).
+  o.u = std::min(2.0f * a - 1.0f, std::nextafter(1.0f, 0.0f));
+  o.v = std::min(2.0f * b - 1.0f, std::nextafter(1.0f, 0.0f));
+}
 
 }  // namespace
 
@@ -54,9 +80,17 @@ void pixelSamples(const SamplePattern& p, int x, int y, Sample* out) {
     } else {
       o.t = 0.0f;
     }
-    if (p.lens) {
+    if (p.lens && p.shape == LensShape::Square && p.blockStrata > 1 && s == 1) {
+      blockStratum(p, x, y, pixel, o);
+    } else if (p.lens) {
       const float i = static_cast<float>(perm[k]) + 0.5f;
-      concentricDisk(fract(i * a1 + su), fract(i * a2 + sv), o.u, o.v);
+      const float a = fract(i * a1 + su), b = fract(i * a2 + sv);
+      if (p.shape == LensShape::Square) {
+        o.u = 2.0f * a - 1.0f;
+        o.v = 2.0f * b - 1.0f;
+      } else {
+        concentricDisk(a, b, o.u, o.v);
+      }
     } else {
       o.u = o.v = 0.0f;
     }

@@ -29,20 +29,35 @@ inline constexpr int kMaxSpp = 64;
 
 struct Sample {
   float t = 0.0f;            // shutter time in [0, 1); 0 when there is no motion
-  float u = 0.0f, v = 0.0f;  // lens position in the unit disk; 0 for a pinhole
+  float u = 0.0f, v = 0.0f;  // lens position in the unit disk (or square, LensShape); 0 for a pinhole
 };
+
+// The lens's shape: the unit disk of a camera's round aperture, or the square [-1, 1]^2 of a
+// rectangular area light used as a lens (stochastic soft shadow maps, shadows/sssm.h: the shear of
+// coverage.h then scales u and v by the light's half-width and half-height).
+enum class LensShape : uint8_t { Disk, Square };
+
+// Block stratification of a square lens with one sample per pixel (Liktor et al. 2015, section
+// 7.1): the n^2 pixels of each n x n block of pixels take the n^2 cells of an n x n grid of the lens
+// square, one each, in an order permuted per block by the hash (block, frame), jittered inside the
+// cell by the hash (pixel, frame). Neighbouring pixels then see different parts of the light.
+inline constexpr int kMaxBlockStrata = 8;
 
 struct SamplePattern {
   int spp = 16;                 // samples per pixel, [1, kMaxSpp]
   uint32_t frame = 0;           // seeds the hash: another frame, other samples
   bool motion = true;           // draw times (else t = 0)
   bool lens = true;             // draw lens positions (else u = v = 0)
+  LensShape shape = LensShape::Disk;
+  int blockStrata = 0;          // square lens, spp 1: n x n pixel blocks stratify the lens (n in
+                                // [2, kMaxBlockStrata]); 0 or 1: the pixel's R2 point, as for spp > 1
   // Every sample at this (t, u, v) instead (tests: the stochastic rasterizer then renders the
   // triangle at one time and lens position, which the main pipeline can render too).
   std::optional<Sample> fixed;
 };
 
-// The S samples of pixel (x, y), sorted by time, into out[0 .. spp).
+// The S samples of pixel (x, y), sorted by time, into out[0 .. spp). A square lens takes the R2
+// points (or the block strata) in [-1, 1)^2 directly, without the concentric map.
 void pixelSamples(const SamplePattern& p, int x, int y, Sample* out);
 
 // Shirley and Chiu's concentric map from [0, 1)^2 to the unit disk (area preserving, low

@@ -21,7 +21,8 @@ struct RunResult {
 };
 
 RunResult render(const test::MovingSoup& s, const ThinLens& lens, BoundMethod m, int spp, int threads = 2,
-           bool motion = true, bool shortcut = true, bool exhaustive = false) {
+           bool motion = true, bool shortcut = true, bool exhaustive = false, LensShape shape = LensShape::Disk,
+           int blockStrata = 0) {
   raster::Rasterizer r({.threads = threads});
   StochasticRasterizer sr(r);
   StochasticInput in{s.clip0, s.clip1, s.indices, s.surface, raster::CullMode::None, lens, motion};
@@ -30,6 +31,8 @@ RunResult render(const test::MovingSoup& s, const ThinLens& lens, BoundMethod m,
   cfg.pattern.spp = spp;
   cfg.staticShortcut = shortcut;
   cfg.exhaustive = exhaustive;
+  cfg.pattern.shape = shape;
+  cfg.pattern.blockStrata = blockStrata;
   raster::Image<ResolvedPixel> out(kW, kH);
   RunResult run;
   StochasticDebug dbg;
@@ -93,6 +96,56 @@ TEST(StochasticRasterizer, BoundingMethodsGiveIdenticalImagesAndTheTighterOnesTe
         EXPECT_LT(dual.stats.tests * 10, box.stats.tests * 8) << "dual space should save at least 20%";
       }
     }
+}
+
+// A rectangular area light used as the lens (stochastic soft shadow maps): the square lens, one
+// sample per pixel in 4 x 4 block strata, or 4 per pixel; every bound still tests a superset.
+TEST(StochasticRasterizer, SquareLensBoundsMatchTestingEverySample) {
+  const glm::mat4 proj = test::testProjection(kW, kH);
+  std::mt19937 rng(11);
+  const test::MovingSoup soup = test::randomSoup(rng, 120, proj, 1.0f, 15.0f, 0.6f, 0.0f);
+  ThinLens lens = makeThinLens(proj[0][0], proj[1][1], 0.3f, 5.0f);
+  lens.ky *= 0.5f;  // a 2:1 rectangle
+  for (const auto& [spp, strata] : {std::pair{1, 4}, std::pair{1, 0}, std::pair{4, 0}}) {
+    SCOPED_TRACE("spp " + std::to_string(spp) + " strata " + std::to_string(strata));
+    const RunResult all =
+        render(soup, lens, BoundMethod::Box, spp, 2, false, true, true, LensShape::Square, strata);
+    EXPECT_GT(all.stats.hits, 0u);
+    for (BoundMethod m : {BoundMethod::Box, BoundMethod::Interval, BoundMethod::DualSpace}) {
+      const RunResult r = render(soup, lens, m, spp, 3, false, true, false, LensShape::Square, strata);
+      expectSameImage(all, r, boundMethodName(m));
+      EXPECT_LE(r.stats.tests, all.stats.tests);
+    }
+  }
+}
+
+TEST(SamplePattern, SquareLensBlockStrataTakeEveryCellOnce) {
+  SamplePattern p;
+  p.spp = 1;
+  p.motion = false;
+  p.shape = LensShape::Square;
+  p.blockStrata = 4;
+  bool anyOutsideDisk = false;
+  for (int by = 0; by < 3; ++by)
+    for (int bx = 0; bx < 3; ++bx) {
+      int seen[16] = {};
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+          Sample s, again;
+          pixelSamples(p, 4 * bx + i, 4 * by + j, &s);
+          pixelSamples(p, 4 * bx + i, 4 * by + j, &again);
+          EXPECT_EQ(std::memcmp(&s, &again, sizeof s), 0);
+          ASSERT_GE(s.u, -1.0f);
+          ASSERT_LT(s.u, 1.0f);
+          ASSERT_GE(s.v, -1.0f);
+          ASSERT_LT(s.v, 1.0f);
+          anyOutsideDisk = anyOutsideDisk || s.u * s.u + s.v * s.v > 1.0f;
+          const int cx = static_cast<int>((s.u + 1.0f) * 2.0f), cy = static_cast<int>((s.v + 1.0f) * 2.0f);
+          ++seen[cy * 4 + cx];
+        }
+      for (int c = 0; c < 16; ++c) EXPECT_EQ(seen[c], 1) << "block " << bx << "," << by << " cell " << c;
+    }
+  EXPECT_TRUE(anyOutsideDisk);  // the square's corners are used, not only the disk
 }
 
 TEST(StochasticRasterizer, DeterministicAcrossThreadCounts) {
