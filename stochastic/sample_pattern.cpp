@@ -21,21 +21,25 @@ namespace {
 
 float fract(float x) { return x - std::floor(x); }
 
+// perm[0 .. n) = a permutation of 0 .. n-1, Fisher-Yates driven by sampleHash(key, frame, salt + k).
+void hashPermutation(int* perm, int n, uint64_t key, uint32_t frame, uint64_t salt) {
+  for (int k = 0; k < n; ++k) perm[k] = k;
+  for (int k = n - 1; k > 0; --k) {
+    const uint64_t h = sampleHash(key, frame, salt + static_cast<uint64_t>(k));
+    const int j = static_cast<int>((h >> 32) % static_cast<uint64_t>(k + 1));
+    const int tmp = perm[k];
+    perm[k] = perm[j];
+    perm[j] = tmp;
+  }
+}
+
 // Block stratification (sample_pattern.h): pixel (x, y)'s cell of the n x n lens grid, jittered.
 void blockStratum(const SamplePattern& p, int x, int y, uint64_t pixel, Sample& o) {
   const int n = p.blockStrata;
   const auto bx = static_cast<uint32_t>(x / n), by = static_cast<uint32_t>(y / n);
   const uint64_t block = (static_cast<uint64_t>(by) << 32) | bx;
   int perm[kMaxBlockStrata * kMaxBlockStrata];
-  const int cells = n * n;
-  for (int k = 0; k < cells; ++k) perm[k] = k;
-  for (int k = cells - 1; k > 0; --k) {
-    const uint64_t h = sampleHash(block, p.frame, 0x200u + static_cast<uint64_t>(k));
-    const int j = static_cast<int>((h >> 32) % static_cast<uint64_t>(k + 1));
-    const int tmp = perm[k];
-    perm[k] = perm[j];
-    perm[j] = tmp;
-  }
+  hashPermutation(perm, n * n, block, p.frame, 0x200u);
   const int cell = perm[(y % n) * n + (x % n)];
   const uint64_t jitter = sampleHash(pixel, p.frame, 2);
   const float fn = static_cast<float>(n);
@@ -57,14 +61,7 @@ void pixelSamples(const SamplePattern& p, int x, int y, Sample* out) {
   const uint64_t pixel = (static_cast<uint64_t>(static_cast<uint32_t>(y)) << 32) | static_cast<uint32_t>(x);
   // Per-pixel permutation of the lens points (Fisher-Yates driven by the hash).
   int perm[kMaxSpp];
-  for (int k = 0; k < s; ++k) perm[k] = k;
-  for (int k = s - 1; k > 0; --k) {
-    const uint64_t h = sampleHash(pixel, p.frame, 0x100u + static_cast<uint64_t>(k));
-    const int j = static_cast<int>((h >> 32) % static_cast<uint64_t>(k + 1));
-    const int tmp = perm[k];
-    perm[k] = perm[j];
-    perm[j] = tmp;
-  }
+  hashPermutation(perm, s, pixel, p.frame, 0x100u);
   const uint64_t shift = sampleHash(pixel, p.frame, 1);
   const float su = unitFloat(shift), sv = unitFloat(shift << 24);
   constexpr double kG = 1.32471795724474602596;  // plastic number: R2 uses 1/g and 1/g^2
