@@ -27,20 +27,10 @@ class Evsm final : public Technique {
   }
   void evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) override {
     const auto t0 = Clock::now();
-    const double cPos = static_cast<double>(map_.warp.cPos), cNeg = static_cast<double>(map_.warp.cNeg);
     forEachReceiver(ctx, visibility, [&](int, int, const Receiver& r) {
       const glm::vec3 v = lookupPoint(map_.view, r, bias_);
       const MomentSample s = map_.sample(map_.view.toMap(v));
-      const double z = receiverDepth(map_, v, r.normal, bias_);
-      // Positive warp: t = exp(c+ z), minimum variance scaled by (dw/dz)^2 = (c+ t)^2.
-      const double tPos = std::exp(cPos * z);
-      double p = chebyshevUpperBound(s.m[0], s.m[1], tPos, minVariance_ * (cPos * tPos) * (cPos * tPos));
-      if (four_) {
-        // Negative warp: t = -exp(-c- z), dw/dz = c- exp(-c- z) = -c- t.
-        const double tNeg = -std::exp(-cNeg * z);
-        p = std::min(p,
-                     chebyshevUpperBound(s.m[2], s.m[3], tNeg, minVariance_ * (cNeg * tNeg) * (cNeg * tNeg)));
-      }
+      const double p = evsmBound(s, map_.warp, receiverDepth(map_, v, r.normal, bias_), minVariance_);
       return static_cast<float>(reduceLightBleeding(p, bleedReduction_));
     });
     ctx.times.msEvaluate += msSince(t0);

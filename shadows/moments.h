@@ -162,6 +162,22 @@ inline double chebyshevUpperBound(double mean, double meanSq, double t, double m
   return den > 0.0 ? std::clamp(variance / den, 0.0, 1.0) : 1.0;
 }
 
+// The EVSM bound at normalized receiver depth z (EVSM2: the positive warp; EVSM4: the smaller of
+// both): each warp's minimum variance is minVariance scaled by its squared derivative at z, so it
+// stays minVariance in units of z^2 (Lauritzen & McCool 2008).
+inline double evsmBound(const MomentSample& s, const MomentWarp& warp, double z, double minVariance) {
+  const double cPos = static_cast<double>(warp.cPos), cNeg = static_cast<double>(warp.cNeg);
+  // Positive warp: t = exp(c+ z), minimum variance scaled by (dw/dz)^2 = (c+ t)^2.
+  const double tPos = std::exp(cPos * z);
+  double p = chebyshevUpperBound(s.m[0], s.m[1], tPos, minVariance * (cPos * tPos) * (cPos * tPos));
+  if (warp.kind == MomentKind::Evsm4) {
+    // Negative warp: t = -exp(-c- z), dw/dz = c- exp(-c- z) = -c- t.
+    const double tNeg = -std::exp(-cNeg * z);
+    p = std::min(p, chebyshevUpperBound(s.m[2], s.m[3], tNeg, minVariance * (cNeg * tNeg) * (cNeg * tNeg)));
+  }
+  return p;
+}
+
 // Light-bleeding reduction (Lauritzen, GPU Gems 3, ch. 8, "Summed-Area Variance Shadow Maps",
 // section 8.4.3): bounds below `amount` are treated as fully shadowed and the rest rescaled,
 //     p' = clamp((p - amount) / (1 - amount), 0, 1),   amount in [0, 0.99].

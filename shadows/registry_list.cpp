@@ -11,6 +11,7 @@
 #include "shadows/pcf.h"
 #include "shadows/pcss.h"
 #include "shadows/pfsvsm.h"
+#include "shadows/sssm.h"
 #include "shadows/vsm.h"
 #include "shadows/vssm.h"
 #include "shadows/vwss.h"
@@ -20,7 +21,7 @@ namespace penumbra::shadows {
 std::vector<TechniqueInfo> allTechniques() {
   return {hardTechnique(), pcfTechnique(), pcssTechnique(), vsmTechnique(), evsm2Technique(), evsm4Technique(),
           esmTechnique(), essmTechnique(),
-          savsmTechnique(), vssmTechnique(), cssmTechnique(), pfsvsmTechnique(), backprojTechnique(), mvrTechnique(), vwssTechnique(), referenceTechnique()};
+          savsmTechnique(), vssmTechnique(), cssmTechnique(), pfsvsmTechnique(), backprojTechnique(), sssmTechnique(), mvrTechnique(), vwssTechnique(), referenceTechnique()};
 }
 
 }  // namespace penumbra::shadows
