@@ -374,7 +374,7 @@ void Sssm::renderSamples(ShadowContext& ctx) {
         double d = den != 0.0 ? f * glm::dot(p0 - o, nrm) / den : 0.0;
         // Grazing rays: the rasterizer's own depth (z / w = 1 - near / d).
         if (!(d > 0.0) || !std::isfinite(d)) d = static_cast<double>(zNear_) / (1.0 - static_cast<double>(sampleZ[k]));
-        depth_[k] = static_cast<float>(d);
+        depth_[k] = static_cast<float>(std::min(d, static_cast<double>(std::numeric_limits<float>::max())));
         moments_[k] = warp_.moments(std::clamp((depth_[k] - zNear_) / (zFar_ - zNear_), 0.0f, 1.0f));
       }
     });
@@ -633,7 +633,7 @@ void Sssm::filterLevel(ShadowContext& ctx, int pool, int level, StageLog& log) {
         for (int i = std::max(tx - 1, 0); i <= std::min(tx + 1, L.tilesX - 1); ++i)
           rmax = std::max(rmax, tileRho[static_cast<size_t>(j) * static_cast<size_t>(L.tilesX) + static_cast<size_t>(i)]);
       if (rmax < 0.0f) return;
-      const int R = std::min(kGather, std::max(0, static_cast<int>(std::ceil(rmax)) - 1));
+      const int R = std::max(0, static_cast<int>(std::ceil(std::min(rmax, static_cast<float>(kGather + 1)))) - 1);
       size_t count = 0;
       for (int y = ty * kTile; y < std::min(L.h, (ty + 1) * kTile); ++y)
         for (int x = tx * kTile; x < std::min(L.w, (tx + 1) * kTile); ++x) {
