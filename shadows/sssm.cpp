@@ -105,7 +105,7 @@ std::array<glm::vec2, 12> poissonTaps() {
 }
 
 struct Settings {
-  int size = 512, planes = 2, levels = 0, strata = 4, frame = 0;
+  int size = 512, planes = 4, levels = 2, strata = 4, frame = 0;
   bool inverseSpacing = true, exactCentres = true, coverage = true, widen = true, interleave = false, box = true, activeTiles = true;
   stochastic::BoundMethod method = stochastic::BoundMethod::DualSpace;
 };
