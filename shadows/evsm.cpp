@@ -30,7 +30,8 @@ class Evsm final : public Technique {
     forEachReceiver(ctx, visibility, [&](int, int, const Receiver& r) {
       const glm::vec3 v = lookupPoint(map_.view, r, bias_);
       const MomentSample s = map_.sample(map_.view.toMap(v));
-      const double p = evsmBound(s, map_.warp, receiverDepth(map_, v, r.normal, bias_), minVariance_);
+      const double p =
+          evsmBound(s, map_.warp, static_cast<double>(receiverDepth(map_, v, r.normal, bias_)), minVariance_);
       return static_cast<float>(reduceLightBleeding(p, bleedReduction_));
     });
     ctx.times.msEvaluate += msSince(t0);

@@ -29,9 +29,9 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // One texel of a filter plane's level: the samples merged into it.
 struct Texel {
-  float n = 0.0f;     // weight: samples (a fraction when part of them moved to a coarser level)
-  float s = 0.0f;     // circle of confusion as a scale: half-extents (w/2, h/2) s in tangent units
-  float d = kInf;     // nearest depth among them (the widening's "nearer sample")
+  float n = 0.0f;  // weight: samples (a fraction when part of them moved to a coarser level)
+  float s = 0.0f;  // circle of confusion as a scale: half-extents (w/2, h/2) s in tangent units
+  float d = kInf;  // nearest depth among them (the widening's "nearer sample")
   float m[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // mean moments
 };
 // The gather's sums (Eq. 7 before normalization).
@@ -49,7 +49,9 @@ struct Level {
   std::vector<Texel> tex;
   std::vector<Acc> acc;
   std::vector<uint8_t> active;  // per tile: filtered (the lighting or the resolve reads it)
-  size_t at(int x, int y) const { return static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x); }
+  size_t at(int x, int y) const {
+    return static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
+  }
   void resize(int width, int height) {
     w = width, h = height;
     tilesX = (w + kTile - 1) / kTile, tilesY = (h + kTile - 1) / kTile;
@@ -106,7 +108,8 @@ std::array<glm::vec2, 12> poissonTaps() {
 
 struct Settings {
   int size = 512, planes = 4, levels = 2, strata = 4, frame = 0;
-  bool inverseSpacing = true, exactCentres = true, coverage = true, widen = true, interleave = false, box = true, activeTiles = true;
+  bool inverseSpacing = true, exactCentres = true, coverage = true, widen = true, interleave = false,
+       box = true, activeTiles = true;
   stochastic::BoundMethod method = stochastic::BoundMethod::DualSpace;
 };
 
@@ -141,12 +144,12 @@ class Sssm final : public Technique {
   LightView view_;
   MomentWarp warp_;
   float zNear_ = 0, zFar_ = 1, focus_ = 1;
-  float widenCap_ = kInf;  // the widening's largest circle, as a scale s
-  float reach_ = kInf;     // the widest circle the widening takes, texels
-  float sx_ = 0, sy_ = 0;  // texels per unit of scale s along x and y: (w/2) kxT, (h/2) kyT
-  std::vector<float> depth_;  // per texel of the stochastic map: d_k (+inf: no surface)
-  std::vector<glm::vec2> lens_;
-  std::vector<raster::Float4> moments_;  // the EVSM moments of d_k  // its light point (light-space x, y in world units)
+  float widenCap_ = kInf;                // the widening's largest circle, as a scale s
+  float reach_ = kInf;                   // the widest circle the widening takes, texels
+  float sx_ = 0, sy_ = 0;                // texels per unit of scale s along x and y: (w/2) kxT, (h/2) kyT
+  std::vector<float> depth_;             // per texel of the stochastic map: d_k (+inf: no surface)
+  std::vector<glm::vec2> lens_;          // its light point (light-space x, y in world units)
+  std::vector<raster::Float4> moments_;  // the EVSM moments of d_k
   std::vector<float> planeDepth_;
   // The filter plane being built: two pools of samples, each with its levels: pools_[0] the samples
   // in front of the plane (d < D: occluders), pools_[1] the others (the receivers' surfaces,
@@ -216,8 +219,8 @@ void Sssm::prepare(ShadowContext& ctx, const ParamSet& params) {
   planeDepth_.assign(static_cast<size_t>(set_.planes), 0.5f * (lo + hi));
   for (int i = 0; i < set_.planes && set_.planes > 1; ++i) {
     const float f = static_cast<float>(i) / static_cast<float>(set_.planes - 1);
-    planeDepth_[static_cast<size_t>(i)] = set_.inverseSpacing ? 1.0f / (1.0f / lo + f * (1.0f / hi - 1.0f / lo))
-                                                             : lo + f * (hi - lo);
+    planeDepth_[static_cast<size_t>(i)] =
+        set_.inverseSpacing ? 1.0f / (1.0f / lo + f * (1.0f / hi - 1.0f / lo)) : lo + f * (hi - lo);
   }
   focus_ = planeDepth_[static_cast<size_t>(set_.planes / 2)];
 
@@ -254,11 +257,12 @@ void Sssm::prepare(ShadowContext& ctx, const ParamSet& params) {
   ctx.times.msFilter += msSince(t1);
 
   char buf[400];
-  std::snprintf(buf, sizeof buf,
-                "sssm: stochastic map %dx%d, 1 sample per texel, light strata %dx%d per %dx%d texels, lens focused "
-                "at depth %.4g%s",
-                view_.width, view_.height, std::max(set_.strata, 1), std::max(set_.strata, 1),
-                std::max(set_.strata, 1), std::max(set_.strata, 1), static_cast<double>(focus_), wide.note.c_str());
+  std::snprintf(
+      buf, sizeof buf,
+      "sssm: stochastic map %dx%d, 1 sample per texel, light strata %dx%d per %dx%d texels, lens focused "
+      "at depth %.4g%s",
+      view_.width, view_.height, std::max(set_.strata, 1), std::max(set_.strata, 1), std::max(set_.strata, 1),
+      std::max(set_.strata, 1), static_cast<double>(focus_), wide.note.c_str());
   ctx.notes.push_back(buf);
   ctx.notes.push_back("sssm: light-lens pass: " + stoch_.report(stochastic::boundMethodName(set_.method)));
   std::string depths;
@@ -266,22 +270,25 @@ void Sssm::prepare(ShadowContext& ctx, const ParamSet& params) {
     std::snprintf(buf, sizeof buf, "%s%.4g", depths.empty() ? "" : ", ", static_cast<double>(d));
     depths += buf;
   }
-  std::snprintf(buf, sizeof buf, "sssm: %d filter plane(s) at depth %s (uniform in %s), %zu level(s)", set_.planes,
-                depths.c_str(), set_.inverseSpacing ? "1/depth" : "depth", static_cast<size_t>(levelsUsed));
+  std::snprintf(buf, sizeof buf, "sssm: %d filter plane(s) at depth %s (uniform in %s), %zu level(s)",
+                set_.planes, depths.c_str(), set_.inverseSpacing ? "1/depth" : "depth",
+                static_cast<size_t>(levelsUsed));
   ctx.notes.push_back(buf);
-  std::snprintf(buf, sizeof buf,
-                "sssm: pre-filter ms: reproject %.2f, init finest %.2f, coarse levels %.2f, filter levels %.2f, "
-                "resolve %.2f",
-                log.reproject, log.init, log.coarse, log.filter, log.resolve);
+  std::snprintf(
+      buf, sizeof buf,
+      "sssm: pre-filter ms: reproject %.2f, init finest %.2f, coarse levels %.2f, filter levels %.2f, "
+      "resolve %.2f",
+      log.reproject, log.init, log.coarse, log.filter, log.resolve);
   ctx.notes.push_back(buf);
-  std::snprintf(buf, sizeof buf,
-                "sssm: tiles filtered %zu of %zu (%.1f%% skipped: no receiver reads them%s), %zu texel gathers; "
-                "%zu sample(s) reprojected off the map; %zu coarsest texel(s) wider than the gather",
-                log.tilesFiltered, log.tiles,
-                log.tiles ? 100.0 * static_cast<double>(log.tiles - log.tilesFiltered) / static_cast<double>(log.tiles)
-                          : 0.0,
-                set_.activeTiles ? "" : "; active_tiles=off filters every tile", log.texelsGathered, log.dropped,
-                log.truncated);
+  std::snprintf(
+      buf, sizeof buf,
+      "sssm: tiles filtered %zu of %zu (%.1f%% skipped: no receiver reads them%s), %zu texel gathers; "
+      "%zu sample(s) reprojected off the map; %zu coarsest texel(s) wider than the gather",
+      log.tilesFiltered, log.tiles,
+      log.tiles ? 100.0 * static_cast<double>(log.tiles - log.tilesFiltered) / static_cast<double>(log.tiles)
+                : 0.0,
+      set_.activeTiles ? "" : "; active_tiles=off filters every tile", log.texelsGathered, log.dropped,
+      log.truncated);
   ctx.notes.push_back(buf);
 }
 
@@ -351,7 +358,8 @@ void Sssm::renderSamples(ShadowContext& ctx) {
   const float hiZ = std::clamp((ctx.region.hi.z - zNear_) / (zFar_ - zNear_), 0.0f, 1.0f);
   moments_.assign(n, warp_.moments(hiZ));
   const glm::dvec3 c(light.center), right(light.right), up(light.up), axis(light.normal());
-  const double ex = static_cast<double>(view_.tanHi.x - view_.tanLo.x), ey = static_cast<double>(view_.tanHi.y - view_.tanLo.y);
+  const double ex = static_cast<double>(view_.tanHi.x - view_.tanLo.x),
+               ey = static_cast<double>(view_.tanHi.y - view_.tanLo.y);
   ctx.raster.run([&] {
     tbb::parallel_for(0, view_.height, [&](int y) {
       for (int x = 0; x < view_.width; ++x) {
@@ -373,7 +381,8 @@ void Sssm::renderSamples(ShadowContext& ctx) {
         const double den = glm::dot(q - o, nrm);
         double d = den != 0.0 ? f * glm::dot(p0 - o, nrm) / den : 0.0;
         // Grazing rays: the rasterizer's own depth (z / w = 1 - near / d).
-        if (!(d > 0.0) || !std::isfinite(d)) d = static_cast<double>(zNear_) / (1.0 - static_cast<double>(sampleZ[k]));
+        if (!(d > 0.0) || !std::isfinite(d))
+          d = static_cast<double>(zNear_) / (1.0 - static_cast<double>(sampleZ[k]));
         depth_[k] = static_cast<float>(std::min(d, static_cast<double>(std::numeric_limits<float>::max())));
         moments_[k] = warp_.moments(std::clamp((depth_[k] - zNear_) / (zFar_ - zNear_), 0.0f, 1.0f));
       }
@@ -527,7 +536,8 @@ void Sssm::buildLevels(int pool) {
     for (const Texel& t : levels[0].tex)
       if (t.n > 0.0f) rmax = std::max(rmax, rhoTexels(t.s));
     // Until the largest circle stays on its level by Eq. 8 (radius at most 0.5 R_G there).
-    while (count < kMaxLevels && rmax / static_cast<float>(1 << count) > 0.5f * static_cast<float>(kGather)) ++count;
+    while (count < kMaxLevels && rmax / static_cast<float>(1 << count) > 0.5f * static_cast<float>(kGather))
+      ++count;
   }
   int& used = levelCount_[static_cast<size_t>(pool)];
   for (int l = 1; l <= count; ++l) {
@@ -580,8 +590,10 @@ void Sssm::markActive(ShadowContext& ctx, int plane) {
       if (!(v.z > 0.0f)) continue;
       const glm::vec2 p = view_.toMap(v);
       if (!(std::isfinite(p.x) && std::isfinite(p.y))) continue;
-      const int px = static_cast<int>(std::floor(std::clamp(p.x, -2.0f, static_cast<float>(view_.width) + 2.0f) - 0.5f));
-      const int py = static_cast<int>(std::floor(std::clamp(p.y, -2.0f, static_cast<float>(view_.height) + 2.0f) - 0.5f));
+      const int px =
+          static_cast<int>(std::floor(std::clamp(p.x, -2.0f, static_cast<float>(view_.width) + 2.0f) - 0.5f));
+      const int py = static_cast<int>(
+          std::floor(std::clamp(p.y, -2.0f, static_cast<float>(view_.height) + 2.0f) - 0.5f));
       int i0, i1;
       float t;
       bracket(v.z, i0, i1, t);
@@ -596,7 +608,8 @@ void Sssm::markActive(ShadowContext& ctx, int plane) {
       Level& c = pools_[k][l];
       for (int ty = 0; ty < f.tilesY; ++ty)
         for (int tx = 0; tx < f.tilesX; ++tx) {
-          if (!f.active[static_cast<size_t>(ty) * static_cast<size_t>(f.tilesX) + static_cast<size_t>(tx)]) continue;
+          if (!f.active[static_cast<size_t>(ty) * static_cast<size_t>(f.tilesX) + static_cast<size_t>(tx)])
+            continue;
           const int x0 = tx * kTile, y0 = ty * kTile, x1 = x0 + kTile - 1, y1 = y0 + kTile - 1;
           c.mark((x0 - 1) / 2 - 2, (y0 - 1) / 2 - 2, (x1 + 1) / 2 + 2, (y1 + 1) / 2 + 2);
         }
@@ -616,7 +629,8 @@ void Sssm::filterLevel(ShadowContext& ctx, int pool, int level, StageLog& log) {
       for (int x = 0; x < L.w; ++x) {
         const Texel& t = L.tex[L.at(x, y)];
         if (t.n == 0.0f) continue;
-        float& r = tileRho[static_cast<size_t>(ty) * static_cast<size_t>(L.tilesX) + static_cast<size_t>(x / kTile)];
+        float& r =
+            tileRho[static_cast<size_t>(ty) * static_cast<size_t>(L.tilesX) + static_cast<size_t>(x / kTile)];
         r = std::max(r, rhoTexels(t.s) * scale);
         if (coarsest && rhoTexels(t.s) * scale > static_cast<float>(kGather)) ++wide[static_cast<size_t>(ty)];
       }
@@ -626,14 +640,17 @@ void Sssm::filterLevel(ShadowContext& ctx, int pool, int level, StageLog& log) {
   ctx.raster.run([&] {
     tbb::parallel_for(size_t{0}, L.active.size(), [&](size_t ti) {
       if (!L.active[ti]) return;
-      const int tx = static_cast<int>(ti % static_cast<size_t>(L.tilesX)), ty = static_cast<int>(ti / static_cast<size_t>(L.tilesX));
+      const int tx = static_cast<int>(ti % static_cast<size_t>(L.tilesX)),
+                ty = static_cast<int>(ti / static_cast<size_t>(L.tilesX));
       // The window: the largest radius among the tile and its neighbours (R_G < kTile), at most R_G.
       float rmax = -1.0f;
       for (int j = std::max(ty - 1, 0); j <= std::min(ty + 1, L.tilesY - 1); ++j)
         for (int i = std::max(tx - 1, 0); i <= std::min(tx + 1, L.tilesX - 1); ++i)
-          rmax = std::max(rmax, tileRho[static_cast<size_t>(j) * static_cast<size_t>(L.tilesX) + static_cast<size_t>(i)]);
+          rmax = std::max(
+              rmax, tileRho[static_cast<size_t>(j) * static_cast<size_t>(L.tilesX) + static_cast<size_t>(i)]);
       if (rmax < 0.0f) return;
-      const int R = std::max(0, static_cast<int>(std::ceil(std::min(rmax, static_cast<float>(kGather + 1)))) - 1);
+      const int R =
+          std::max(0, static_cast<int>(std::ceil(std::min(rmax, static_cast<float>(kGather + 1)))) - 1);
       size_t count = 0;
       for (int y = ty * kTile; y < std::min(L.h, (ty + 1) * kTile); ++y)
         for (int x = tx * kTile; x < std::min(L.w, (tx + 1) * kTile); ++x) {
@@ -651,15 +668,17 @@ void Sssm::filterLevel(ShadowContext& ctx, int pool, int level, StageLog& log) {
               const float hx = std::min(std::max(0.5f, sx_ * q.s * scale), kGather + 0.5f);
               const float hy = std::min(std::max(0.5f, sy_ * q.s * scale), kGather + 0.5f);
               if (!(static_cast<float>(std::abs(dx)) < hx && static_cast<float>(std::abs(dy)) < hy)) continue;
-              const double alpha = static_cast<double>(q.n) / (static_cast<double>(coveredTexels(hx, set_.interleave)) *
-                                                               coveredTexels(hy, set_.interleave) * area);
+              const double alpha =
+                  static_cast<double>(q.n) / (static_cast<double>(coveredTexels(hx, set_.interleave)) *
+                                              coveredTexels(hy, set_.interleave) * area);
               aw += alpha;
               for (int c = 0; c < 4; ++c) am[c] += alpha * static_cast<double>(q.m[c]);
             }
           }
           count += static_cast<size_t>((2 * R + 1) * (2 * R + 1));
-          L.acc[L.at(x, y)] = {static_cast<float>(aw), {static_cast<float>(am[0]), static_cast<float>(am[1]),
-                                                  static_cast<float>(am[2]), static_cast<float>(am[3])}};
+          L.acc[L.at(x, y)] = {static_cast<float>(aw),
+                               {static_cast<float>(am[0]), static_cast<float>(am[1]),
+                                static_cast<float>(am[2]), static_cast<float>(am[3])}};
         }
       gathered[ti] = count;
     });
@@ -677,7 +696,8 @@ template <class F>
 void forActiveTexels(const Level& L, F&& f) {
   tbb::parallel_for(size_t{0}, L.active.size(), [&](size_t ti) {
     if (!L.active[ti]) return;
-    const int tx = static_cast<int>(ti % static_cast<size_t>(L.tilesX)), ty = static_cast<int>(ti / static_cast<size_t>(L.tilesX));
+    const int tx = static_cast<int>(ti % static_cast<size_t>(L.tilesX)),
+              ty = static_cast<int>(ti / static_cast<size_t>(L.tilesX));
     for (int y = ty * kTile; y < std::min(L.h, (ty + 1) * kTile); ++y)
       for (int x = tx * kTile; x < std::min(L.w, (tx + 1) * kTile); ++x) f(x, y);
   });
@@ -709,10 +729,12 @@ void Sssm::resolve(ShadowContext& ctx, int pool) {
       Level& f = levels[l - 1];
       forActiveTexels(f, [&](int x, int y) {
         const float cy = (static_cast<float>(y) + 0.5f) / 2.0f - 0.5f;
-        const int y0 = std::clamp(static_cast<int>(std::floor(cy)), 0, c.h - 1), y1 = std::min(y0 + 1, c.h - 1);
+        const int y0 = std::clamp(static_cast<int>(std::floor(cy)), 0, c.h - 1),
+                  y1 = std::min(y0 + 1, c.h - 1);
         const float fy = std::clamp(cy - std::floor(cy), 0.0f, 1.0f);
         const float cx = (static_cast<float>(x) + 0.5f) / 2.0f - 0.5f;
-        const int x0 = std::clamp(static_cast<int>(std::floor(cx)), 0, c.w - 1), x1 = std::min(x0 + 1, c.w - 1);
+        const int x0 = std::clamp(static_cast<int>(std::floor(cx)), 0, c.w - 1),
+                  x1 = std::min(x0 + 1, c.w - 1);
         const float fx = std::clamp(cx - std::floor(cx), 0.0f, 1.0f);
         Acc& a = f.acc[f.at(x, y)];
         a.add(c.acc[c.at(x0, y0)], (1 - fx) * (1 - fy));
@@ -762,14 +784,15 @@ void Sssm::evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) {
   forEachReceiver(ctx, visibility, [&](int, int, const Receiver& r) {
     const glm::vec3 v = lookupPoint(view_, r, bias_);
     const glm::vec2 pos = view_.toMap(v);
-    const double z = receiverDepth(result_[0], v, r.normal, bias_);
+    const auto z = static_cast<double>(receiverDepth(result_[0], v, r.normal, bias_));
     int i0, i1;
     float t;
     bracket(v.z, i0, i1, t);
     double p = evsmBound(result_[static_cast<size_t>(i0)].sample(pos), warp_, z, minVariance_);
     if (t > 0.0f)
       p = (1.0 - static_cast<double>(t)) * p +
-          static_cast<double>(t) * evsmBound(result_[static_cast<size_t>(i1)].sample(pos), warp_, z, minVariance_);
+          static_cast<double>(t) *
+              evsmBound(result_[static_cast<size_t>(i1)].sample(pos), warp_, z, minVariance_);
     return static_cast<float>(reduceLightBleeding(p, bleedReduction_));
   });
   ctx.times.msEvaluate += msSince(t0);
@@ -777,45 +800,88 @@ void Sssm::evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) {
 
 std::vector<ParamSpec> sssmParams() {
   std::vector<ParamSpec> p = depthMapParams(512, 0.5, 1.0);
-  p.push_back({.name = "planes", .kind = ParamKind::Int, .defaultValue = 4, .minValue = 1, .maxValue = 8, .choices = {},
-               .help = "filter planes over the receivers' depth range (section 7.4; 4: 2 over-blur the shadows of "
-                       "curved objects on themselves, Fig. 17)"});
-  p.push_back(choiceParam("spacing", 0, {"inverse", "depth"},
-                          "filter planes uniform in 1/depth (the circles of confusion are linear in it) or in depth "
-                          "(the paper)"));
-  p.push_back({.name = "levels", .kind = ParamKind::Int, .defaultValue = 2, .minValue = 0, .maxValue = kMaxLevels,
-               .choices = {},
-               .help = "coarse levels of the multi-resolution filter (section 7.2; 2 as the paper); 0: as many as the "
-                       "largest circle of confusion needs (no circle cut by the gather radius, more blur from the "
-                       "resolve)"});
-  p.push_back({.name = "strata", .kind = ParamKind::Int, .defaultValue = 4, .minValue = 0, .maxValue = 8, .choices = {},
-               .help = "n: each n x n block of texels takes n^2 different strata of the light (section 7.1); 0 or 1: "
-                       "an R2 point per texel"});
+  p.push_back(
+      {.name = "planes",
+       .kind = ParamKind::Int,
+       .defaultValue = 4,
+       .minValue = 1,
+       .maxValue = 8,
+       .choices = {},
+       .help = "filter planes over the receivers' depth range (section 7.4; 4: 2 over-blur the shadows of "
+               "curved objects on themselves, Fig. 17)"});
+  p.push_back(
+      choiceParam("spacing", 0, {"inverse", "depth"},
+                  "filter planes uniform in 1/depth (the circles of confusion are linear in it) or in depth "
+                  "(the paper)"));
+  p.push_back(
+      {.name = "levels",
+       .kind = ParamKind::Int,
+       .defaultValue = 2,
+       .minValue = 0,
+       .maxValue = kMaxLevels,
+       .choices = {},
+       .help =
+           "coarse levels of the multi-resolution filter (section 7.2; 2 as the paper); 0: as many as the "
+           "largest circle of confusion needs (no circle cut by the gather radius, more blur from the "
+           "resolve)"});
+  p.push_back(
+      {.name = "strata",
+       .kind = ParamKind::Int,
+       .defaultValue = 4,
+       .minValue = 0,
+       .maxValue = 8,
+       .choices = {},
+       .help = "n: each n x n block of texels takes n^2 different strata of the light (section 7.1); 0 or 1: "
+               "an R2 point per texel"});
   p.push_back(choiceParam("bound", 2, {"box", "interval", "dual"},
                           "bounding method of the light-lens rasterization (same map; STE in --stats)"));
-  p.push_back(choiceParam("centres", 0, {"exact", "texel"},
-                          "a sample in front of a plane filters around its hit point seen from the light centre "
-                          "(exact), or around the texel its ray crosses (the paper's approximation, section 7.3)"));
-  p.push_back(choiceParam("estimator", 1, {"coverage", "paper"},
-                          "coverage: the samples in front of a plane give the blocked fraction (their circles' "
-                          "weights summed), the others the rest; paper: one weighted average of all (Eq. 7)"));
-  p.push_back(choiceParam("widen", 1, {"off", "on"},
-                          "widen each sample's circle to the nearest overlapping nearer sample's (12 Poisson taps "
-                          "within 32 texels, then a Gaussian of radius 2; section 5.2)"));
-  p.push_back({.name = "widen_max", .kind = ParamKind::Float, .defaultValue = 0, .minValue = 0, .maxValue = 1024,
+  p.push_back(
+      choiceParam("centres", 0, {"exact", "texel"},
+                  "a sample in front of a plane filters around its hit point seen from the light centre "
+                  "(exact), or around the texel its ray crosses (the paper's approximation, section 7.3)"));
+  p.push_back(
+      choiceParam("estimator", 1, {"coverage", "paper"},
+                  "coverage: the samples in front of a plane give the blocked fraction (their circles' "
+                  "weights summed), the others the rest; paper: one weighted average of all (Eq. 7)"));
+  p.push_back(
+      choiceParam("widen", 1, {"off", "on"},
+                  "widen each sample's circle to the nearest overlapping nearer sample's (12 Poisson taps "
+                  "within 32 texels, then a Gaussian of radius 2; section 5.2)"));
+  p.push_back({.name = "widen_max",
+               .kind = ParamKind::Float,
+               .defaultValue = 0,
+               .minValue = 0,
+               .maxValue = 1024,
                .choices = {},
                .help = "the widened circle's largest radius, texels (0: none, the paper)"});
-  p.push_back(choiceParam("interleave", 0, {"off", "on"},
-                          "interleaved sampling: each texel gathers every second sample per axis (section 7.3)"));
-  p.push_back(choiceParam("box", 1, {"off", "on"}, "a 3 x 3 box of each level's own sums in the resolve (Fig. 10)"));
+  p.push_back(
+      choiceParam("interleave", 0, {"off", "on"},
+                  "interleaved sampling: each texel gathers every second sample per axis (section 7.3)"));
+  p.push_back(
+      choiceParam("box", 1, {"off", "on"}, "a 3 x 3 box of each level's own sums in the resolve (Fig. 10)"));
   p.push_back(choiceParam("active_tiles", 1, {"off", "on"},
                           "filter only the tiles the receivers read (section 7.5; the image is the same)"));
-  p.push_back({.name = "frame", .kind = ParamKind::Int, .defaultValue = 0, .minValue = 0, .maxValue = 1 << 20,
-               .choices = {}, .help = "seeds the light samples (another frame, other samples)"});
-  p.push_back({.name = "exponent_pos", .kind = ParamKind::Float, .defaultValue = 40, .minValue = 0, .maxValue = 42,
-               .choices = {}, .help = "EVSM c+ (moments.h: <= 42 keeps exp(2 c+) below FLT_MAX)"});
-  p.push_back({.name = "exponent_neg", .kind = ParamKind::Float, .defaultValue = 5, .minValue = 0, .maxValue = 42,
-               .choices = {}, .help = "EVSM c-"});
+  p.push_back({.name = "frame",
+               .kind = ParamKind::Int,
+               .defaultValue = 0,
+               .minValue = 0,
+               .maxValue = 1 << 20,
+               .choices = {},
+               .help = "seeds the light samples (another frame, other samples)"});
+  p.push_back({.name = "exponent_pos",
+               .kind = ParamKind::Float,
+               .defaultValue = 40,
+               .minValue = 0,
+               .maxValue = 42,
+               .choices = {},
+               .help = "EVSM c+ (moments.h: <= 42 keeps exp(2 c+) below FLT_MAX)"});
+  p.push_back({.name = "exponent_neg",
+               .kind = ParamKind::Float,
+               .defaultValue = 5,
+               .minValue = 0,
+               .maxValue = 42,
+               .choices = {},
+               .help = "EVSM c-"});
   for (ParamSpec& s : chebyshevParams(1e-7)) {
     // 0.1: the bound of a filtered mixture is never exactly 0 (min_variance); this makes umbrae 0.
     if (s.name == "bleed_reduction") s.defaultValue = 0.1;
@@ -828,8 +894,9 @@ std::vector<ParamSpec> sssmParams() {
 
 TechniqueInfo sssmTechnique() {
   return {.name = "sssm",
-          .summary = "stochastic soft shadow map: the light as the lens of the stochastic rasterizer, EVSM moments "
-                     "pre-filtered per filter plane with per-sample circles of confusion",
+          .summary =
+              "stochastic soft shadow map: the light as the lens of the stochastic rasterizer, EVSM moments "
+              "pre-filtered per filter plane with per-sample circles of confusion",
           .params = sssmParams(),
           .benchSettings = {"", "planes=2", "planes=8"},
           .isReference = false,
