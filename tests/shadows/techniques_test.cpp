@@ -45,7 +45,8 @@ struct EdgeCase {
   static float exact(int i) { return std::clamp(x(i) + 0.5f, 0.0f, 1.0f); }
 };
 
-raster::ImageFloat run(const TechniqueInfo& t, const ShadowInputs& in, int threads, const std::string& params = "") {
+raster::ImageFloat run(const TechniqueInfo& t, const ShadowInputs& in, int threads,
+                       const std::string& params = "") {
   raster::Rasterizer raster({.threads = threads});
   ParamSet p(t.params);
   EXPECT_FALSE(p.setAll(params));
@@ -71,7 +72,8 @@ void rampError(const raster::ImageFloat& v, double& mean, double& worst) {
 // to it: a search box then three times the penumbra box.
 void addGroundAndNearCaster(EdgeCase& c) {
   c.positions.insert(c.positions.end(), {{-20, 0, -20}, {20, 0, -20}, {20, 0, 20}, {-20, 0, 20}});
-  c.positions.insert(c.positions.end(), {{-0.9f, 3, -0.2f}, {-0.8f, 3, -0.2f}, {-0.8f, 3, 0.2f}, {-0.9f, 3, 0.2f}});
+  c.positions.insert(c.positions.end(),
+                     {{-0.9f, 3, -0.2f}, {-0.8f, 3, -0.2f}, {-0.8f, 3, 0.2f}, {-0.9f, 3, 0.2f}});
   c.indices.insert(c.indices.end(), {4, 5, 6, 4, 6, 7, 8, 9, 10, 8, 10, 11});
   c.in.casters = {c.positions, c.indices};
 }
@@ -101,7 +103,8 @@ TEST(Techniques, RangeExactnessAndDeterminism) {
       for (int i = 0; i < EdgeCase::kW; ++i) {
         const float v = v1.at(i, j);
         ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << i << "," << j << ": " << v;
-        ASSERT_EQ(std::bit_cast<uint32_t>(v), std::bit_cast<uint32_t>(v3.at(i, j))) << "threads differ at " << i << "," << j;
+        ASSERT_EQ(std::bit_cast<uint32_t>(v), std::bit_cast<uint32_t>(v3.at(i, j)))
+            << "threads differ at " << i << "," << j;
         if (i == 0 && j == 0) continue;  // background
         // Far from the penumbra [-0.5, 0.5]: exactly 0 in the umbra, exactly 1 in full light. CSSM's
         // truncated Fourier series ripples there (docs/techniques/cssm.md): within 0.01 (0.0042
@@ -124,14 +127,16 @@ TEST(Techniques, MinMaxSkippingChangesNothing) {
   c.positions.insert(c.positions.end(), {{0.3f, 1.0f, -0.4f}, {0.9f, 1.0f, -0.4f}, {0.6f, 1.2f, 0.5f}});
   c.indices.insert(c.indices.end(), {4, 5, 6});
   c.in.casters = {c.positions, c.indices};
-  for (int i = 0; i < EdgeCase::kW; ++i) c.receivers.at(i, 11).normal = glm::normalize(glm::vec3(0.4f, 1.0f, 0.1f));
+  for (int i = 0; i < EdgeCase::kW; ++i)
+    c.receivers.at(i, 11).normal = glm::normalize(glm::vec3(0.4f, 1.0f, 0.1f));
   for (const char* name : {"pcf", "pcss"}) {
     for (const char* extra : {"", "kernel=grid", "map_size=256", "taps=41", "kernel=grid,taps=121"}) {
       if (std::string(name) == "pcss" && std::string(extra).find("taps") != std::string::npos) continue;
       if (std::string(name) == "pcss" && std::string(extra) == "kernel=grid") continue;
       const std::string base = extra;
       const raster::ImageFloat on = run(*findTechnique(name), c.in, 2, base);
-      const raster::ImageFloat off = run(*findTechnique(name), c.in, 2, base + (base.empty() ? "" : ",") + "minmax=off");
+      const raster::ImageFloat off =
+          run(*findTechnique(name), c.in, 2, base + (base.empty() ? "" : ",") + "minmax=off");
       for (int j = 0; j < EdgeCase::kH; ++j)
         for (int i = 0; i < EdgeCase::kW; ++i)
           ASSERT_EQ(std::bit_cast<uint32_t>(on.at(i, j)), std::bit_cast<uint32_t>(off.at(i, j)))
@@ -164,8 +169,12 @@ TEST(Techniques, CastersCrossingTheLightPlaneAreNotClippedByTheNearPlane) {
   ReceiverImage rec(32, 4);
   for (int j = 0; j < 4; ++j)
     for (int i = 0; i < 32; ++i)
-      rec.at(i, j) = {{1.0f + 2.0f * static_cast<float>(i) / 32.0f, -1.0f, -0.2f + 0.1f * static_cast<float>(j)}, {0, 1, 0}, 1u};
-  const std::vector<glm::vec3> pos = {{0.6f, -1.0f, -10.0f}, {0.6f, 10.0f, -10.0f}, {0.6f, -1.0f, 10.0f}, {0.6f, 10.0f, 10.0f}};
+      rec.at(i, j) = {
+          {1.0f + 2.0f * static_cast<float>(i) / 32.0f, -1.0f, -0.2f + 0.1f * static_cast<float>(j)},
+          {0, 1, 0},
+          1u};
+  const std::vector<glm::vec3> pos = {
+      {0.6f, -1.0f, -10.0f}, {0.6f, 10.0f, -10.0f}, {0.6f, -1.0f, 10.0f}, {0.6f, 10.0f, 10.0f}};
   const std::vector<uint32_t> idx = {0, 1, 2, 2, 1, 3};
   ShadowInputs in;
   makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, in.light);
@@ -270,6 +279,22 @@ TEST(Techniques, SssmMatchesTheAnalyticPenumbra) {
                {"strata=0", 0.027, 0.22},
                {"bleed_reduction=0", 0.017, 0.23},
                {"map_size=1024", 0.041, 0.62}});
+  // The ramp's width, which the mean error alone does not pin down (circles of half the size give
+  // a mean error of 0.021): the mean V over x in [0.1, 0.4] less the mean over [-0.4, -0.1] is
+  // exactly 0.5 (0.75 - 0.25) and grows as the penumbra narrows: 0.607 measured (the cut circles
+  // steepen it), 0.727 with circles of half the size.
+  const raster::ImageFloat v = run(*findTechnique("sssm"), c.in, 2);
+  double lo = 0, hi = 0;
+  int nLo = 0, nHi = 0;
+  for (int j = 0; j < EdgeCase::kH; ++j)
+    for (int i = 0; i < EdgeCase::kW; ++i) {
+      const float x = EdgeCase::x(i);
+      if (x > -0.4f && x < -0.1f) lo += static_cast<double>(v.at(i, j)), ++nLo;
+      if (x > 0.1f && x < 0.4f) hi += static_cast<double>(v.at(i, j)), ++nHi;
+    }
+  const double rise = hi / nHi - lo / nLo;
+  std::printf("sssm ramp rise over [-0.4, -0.1] -> [0.1, 0.4]: %.3f (exact 0.5)\n", rise);
+  EXPECT_NEAR(rise, 0.5, 0.16);
 }
 
 TEST(Techniques, SssmActiveTilesBoundingMethodsAndThreadsChangeNothing) {
@@ -309,7 +334,7 @@ TEST(Techniques, BackprojectionBitmaskCountsAnOverlapOnce) {
   // band z_l < -3 z only at x_l >= -3 x. Summing the two areas counts their overlap
   // (-3 x <= x_l < -x) twice: V = 1 - (1 - a) - (1 - b) min(1, 3 x + 0.5), clamped at 0.
   constexpr int kN = 16;
-  std::vector<glm::vec3> positions = {{-20, 2, -20}, {0, 2, -20}, {0, 2, 20}, {-20, 2, 20},
+  std::vector<glm::vec3> positions = {{-20, 2, -20}, {0, 2, -20},  {0, 2, 20}, {-20, 2, 20},
                                       {-20, 1, -20}, {20, 1, -20}, {20, 1, 0}, {-20, 1, 0}};
   std::vector<uint32_t> indices = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
   ReceiverImage receivers(kN, kN);
@@ -325,7 +350,8 @@ TEST(Techniques, BackprojectionBitmaskCountsAnOverlapOnce) {
   const raster::ImageFloat bits = run(*findTechnique("backproj"), in, 2, "samples=1024,map_size=1024");
   // Without gap filling (it extends the patches where the two occluders meet in the map, which
   // area accumulation counts twice as well) and without coarse texels (one patch at a mean depth).
-  const raster::ImageFloat area = run(*findTechnique("backproj"), in, 2, "occlusion=area,gap_fill=off,search_cap=4096,map_size=1024");
+  const raster::ImageFloat area =
+      run(*findTechnique("backproj"), in, 2, "occlusion=area,gap_fill=off,search_cap=4096,map_size=1024");
   double bitErr = 0, areaErr = 0, areaDark = 0, overlap = 0;
   for (int j = 0; j < kN; ++j)
     for (int i = 0; i < kN; ++i) {
@@ -337,12 +363,13 @@ TEST(Techniques, BackprojectionBitmaskCountsAnOverlapOnce) {
       overlap += exact - summed;
     }
   const double n = kN * kN;
-  std::printf("overlap: bitmask mean |V - ab| %.4f; area mean |V - summed| %.4f, darker by %.4f (overlap %.4f)\n",
-              bitErr / n, areaErr / n, areaDark / n, overlap / n);
-  EXPECT_LT(bitErr / n, 0.005);   // measured 0.0029
-  EXPECT_LT(areaErr / n, 0.004);   // measured 0.0012
+  std::printf(
+      "overlap: bitmask mean |V - ab| %.4f; area mean |V - summed| %.4f, darker by %.4f (overlap %.4f)\n",
+      bitErr / n, areaErr / n, areaDark / n, overlap / n);
+  EXPECT_LT(bitErr / n, 0.005);                   // measured 0.0029
+  EXPECT_LT(areaErr / n, 0.004);                  // measured 0.0012
   EXPECT_NEAR(areaDark / n, overlap / n, 0.004);  // 0.0939 against 0.0927
-  EXPECT_GT(overlap / n, 0.05);  // the case does overlap
+  EXPECT_GT(overlap / n, 0.05);                   // the case does overlap
 }
 
 TEST(Techniques, BackprojectionGapFillingClosesTheCracksOfASteepOccluder) {
@@ -353,10 +380,12 @@ TEST(Techniques, BackprojectionGapFillingClosesTheCracksOfASteepOccluder) {
   ReceiverImage rec(16, 4);
   for (int j = 0; j < 4; ++j)
     for (int i = 0; i < 16; ++i)
-      rec.at(i, j) = {{1.0f + 0.2f * static_cast<float>(i) / 15.0f, -1.0f, -0.2f + 0.1f * static_cast<float>(j)},
-                      {0, 1, 0},
-                      1u};
-  const std::vector<glm::vec3> pos = {{0.6f, -1.0f, -10.0f}, {0.6f, 3.5f, -10.0f}, {0.6f, -1.0f, 10.0f}, {0.6f, 3.5f, 10.0f}};
+      rec.at(i, j) = {
+          {1.0f + 0.2f * static_cast<float>(i) / 15.0f, -1.0f, -0.2f + 0.1f * static_cast<float>(j)},
+          {0, 1, 0},
+          1u};
+  const std::vector<glm::vec3> pos = {
+      {0.6f, -1.0f, -10.0f}, {0.6f, 3.5f, -10.0f}, {0.6f, -1.0f, 10.0f}, {0.6f, 3.5f, 10.0f}};
   const std::vector<uint32_t> idx = {0, 1, 2, 2, 1, 3};
   ShadowInputs in;
   ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, in.light));
@@ -390,7 +419,8 @@ TEST(Techniques, MvrConvergesWithViews) {
   double previous = 1.0;
   for (int views : {4, 16, 64, 256}) {
     double mean = 0, worst = 0;
-    rampError(run(*findTechnique("mvr"), c.in, 2, "map_size=1024,views=" + std::to_string(views)), mean, worst);
+    rampError(run(*findTechnique("mvr"), c.in, 2, "map_size=1024,views=" + std::to_string(views)), mean,
+              worst);
     std::printf("mvr views=%d vs analytic ramp: mean |err| %.4f, max %.4f\n", views, mean, worst);
     if (views <= 64) {
       EXPECT_LT(mean, previous * 0.75) << views;
@@ -404,7 +434,7 @@ TEST(Techniques, InterleavedSubsetsAreStratifiedAndCoverTheLight) {
   RectLight light;
   ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 2.0f, 1.0f, glm::vec3(1), 1, light));
   const LightSampleSet one = interleavedLightSamples(light, 64, 1);
-  EXPECT_EQ(one.points, lightSamplePoints(light, 64));  // k = 1: the plain set, the same images
+  EXPECT_EQ(one.points, lightSamplePoints(light, 64));   // k = 1: the plain set, the same images
   EXPECT_EQ(interleavedLightSamples(light, 3, 4).k, 1);  // no empty subset: k^2 <= views
   EXPECT_EQ(interleavedLightSamples(light, 10, 4).k, 3);
   for (int n : {64, 66}) {
