@@ -40,6 +40,14 @@ std::string FrameStats::report() const {
                   l.trianglesFlattened,
                   l.trianglesCulled, l.trianglesFlattened - l.trianglesCulled);
     s += buf;
+    if (l.trianglesMoving > 0) {
+      std::snprintf(
+          buf, sizeof buf,
+          "    moving casters: %zu triangles, sampled over the whole shutter (motion-blurred shadows); "
+          "receivers on moving surfaces at t = %.2f\n",
+          l.trianglesMoving, static_cast<double>(l.casterTime));
+      s += buf;
+    }
     if (l.skipped) s += "    skipped: no shadow pass (" + l.skipReason + "); V = 1 in front of the light\n";
     for (const std::string& n : l.notes) s += "    " + n + "\n";
     if (l.maps.trianglesIn > 0) s += "  " + l.maps.report("shadow map passes (summed)");

@@ -37,6 +37,8 @@ struct LightShadowStats {
   std::string technique, params;
   size_t instancesCulled = 0;        // whole instances outside the light's region, before flattening
   size_t trianglesFlattened = 0;     // world-space triangles handed to shadows/
+  size_t trianglesMoving = 0;        // of those, moving over the shutter (ShadowInputs::castersOpen)
+  float casterTime = 0.5f;           // the frozen casters' time (and of receivers on moving surfaces)
   size_t trianglesCulled = 0;        // of those, outside the region (per triangle)
   size_t receivers = 0, receiversBehind = 0, receiversOutside = 0;
   bool skipped = false;

@@ -70,6 +70,10 @@ struct RenderOptions {
   // folder, or any ResultCache; null: none.
   std::shared_ptr<shadows::ResultCache> cache;
   bool shadowCulling = true;  // cull casters outside each light's region (off: to measure the saving)
+  // Moving casters over the whole shutter for the techniques that sample time (reference, sssm:
+  // motion-blurred soft shadows); off, or a frame at one fixed time: frozen at the casters' time
+  // (mid-shutter), as every other technique always has them.
+  bool shadowMotion = true;
   // Motion blur and depth of field: the stochastic pass (stochastic/), taken when a visible
   // instance moves or the camera has an aperture.
   int spp = 16;  // samples per pixel, kSppOption

@@ -9,23 +9,41 @@ namespace penumbra::engine {
 namespace {
 
 // The instances that may shadow a receiver of the light's region, flattened to world space at
-// the casters' time.
+// the casters' time; with `motion` (a frame over the whole shutter with a moving instance), every
+// vertex also at shutter open and close (ShadowInputs::castersOpen), and a moving instance is culled
+// by the box of its path's ends (its box at any time lies inside: the transform is their blend).
 struct Casters {
-  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> positions, open, close;
   std::vector<uint32_t> indices;
+  size_t movingTriangles = 0;
 };
 
-Casters flattenCasters(const Scene& scene, const shadows::RectLight& light, const shadows::LightRegion& region,
-                       float casterTime, bool cull, LightShadowStats& st) {
+Casters flattenCasters(const Scene& scene, const shadows::RectLight& light,
+                       const shadows::LightRegion& region, float casterTime, bool motion, bool cull,
+                       LightShadowStats& st) {
   Casters c;
+  bool anyMoves = false;
   for (const Instance& inst : scene.instances) {
     const Mesh& m = scene.meshes[static_cast<size_t>(inst.mesh)];
-    const glm::mat4 transform = inst.moves() ? inst.transformAt(casterTime) : inst.transform;
+    const bool moves = inst.moves();
+    const glm::mat4 transform = moves ? inst.transformAt(casterTime) : inst.transform;
+    const bool sweep = motion && moves;
+    const auto corner = [&](const glm::mat4& tr, int k) {
+      return glm::vec3(tr * glm::vec4((k & 1) ? m.boundsMax.x : m.boundsMin.x,
+                                      (k & 2) ? m.boundsMax.y : m.boundsMin.y,
+                                      (k & 4) ? m.boundsMax.z : m.boundsMin.z, 1.0f));
+    };
     glm::vec3 corners[8];
-    for (int k = 0; k < 8; ++k)
-      corners[k] = glm::vec3(transform * glm::vec4((k & 1) ? m.boundsMax.x : m.boundsMin.x,
-                                                   (k & 2) ? m.boundsMax.y : m.boundsMin.y,
-                                                   (k & 4) ? m.boundsMax.z : m.boundsMin.z, 1.0f));
+    for (int k = 0; k < 8; ++k) corners[k] = corner(transform, k);
+    if (sweep) {  // the world box of both ends
+      glm::vec3 lo(INFINITY), hi(-INFINITY);
+      for (int k = 0; k < 16; ++k) {
+        const glm::vec3 p = corner(k < 8 ? inst.transform : *inst.transformClose, k & 7);
+        lo = glm::min(lo, p), hi = glm::max(hi, p);
+      }
+      for (int k = 0; k < 8; ++k)
+        corners[k] = {(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+    }
     if (m.indices.empty()) continue;
     if (cull && !region.mayShadow(light, corners)) {
       ++st.instancesCulled;
@@ -34,7 +52,16 @@ Casters flattenCasters(const Scene& scene, const shadows::RectLight& light, cons
     const uint32_t base = static_cast<uint32_t>(c.positions.size());
     for (const glm::vec3& p : m.positions) c.positions.push_back(glm::vec3(transform * glm::vec4(p, 1.0f)));
     for (uint32_t i : m.indices) c.indices.push_back(base + i);
+    if (!motion) continue;
+    for (const glm::vec3& p : m.positions) {
+      c.open.push_back(sweep ? glm::vec3(inst.transform * glm::vec4(p, 1.0f)) : c.positions[c.open.size()]);
+      c.close.push_back(sweep ? glm::vec3(*inst.transformClose * glm::vec4(p, 1.0f))
+                              : c.positions[c.close.size()]);
+    }
+    anyMoves = anyMoves || sweep;
+    if (sweep) c.movingTriangles += m.indices.size() / 3;
   }
+  if (!anyMoves) c.open.clear(), c.close.clear();
   return c;
 }
 
@@ -48,12 +75,20 @@ raster::ImageFloat lightVisibility(raster::Rasterizer& raster, const Scene& scen
   st.receivers = region.receivers;
   st.receiversBehind = region.receiversBehind;
   st.receiversOutside = region.receiversOutside;
-  const Casters casters = flattenCasters(scene, light, region, plan.casterTime, options.options.shadowCulling, st);
+  // Casters over the whole shutter: a frame that samples time (not one fixed sample's time).
+  const bool motion =
+      options.options.shadowMotion && !plan.at && options.technique && options.technique->samplesTime;
+  const Casters casters =
+      flattenCasters(scene, light, region, plan.casterTime, motion, options.options.shadowCulling, st);
   st.trianglesFlattened = casters.indices.size() / 3;
+  st.trianglesMoving = casters.movingTriangles;
+  st.casterTime = plan.casterTime;
   st.msFlatten = raster::msSince(t0);
   if (!options.technique) return raster::ImageFloat(rec.width(), rec.height(), 1.0f);  // "none": unshadowed
   shadows::ShadowInputs in;
   in.casters = {casters.positions, casters.indices};
+  in.castersOpen = casters.open;
+  in.castersClose = casters.close;
   in.receivers = &rec;
   in.light = light;
   in.cache = options.options.cache.get();
@@ -97,9 +132,9 @@ shadows::ReceiverImage stackReceivers(raster::Rasterizer& raster, const Frame& f
   return rec;
 }
 
-std::vector<raster::ImageFloat> runShadowPass(raster::Rasterizer& raster, const Scene& scene, const FramePlan& plan,
-                                              const ResolvedOptions& options, const shadows::ReceiverImage& receivers,
-                                              FrameStats& stats) {
+std::vector<raster::ImageFloat> runShadowPass(raster::Rasterizer& raster, const Scene& scene,
+                                              const FramePlan& plan, const ResolvedOptions& options,
+                                              const shadows::ReceiverImage& receivers, FrameStats& stats) {
   const auto t0 = raster::Clock::now();
   std::vector<raster::ImageFloat> visibility;
   for (const shadows::RectLight& light : scene.areaLights) {

@@ -134,7 +134,7 @@ class LayerBuilder {
     }
     // The face at the casters' time, on the side the layer's sample saw.
     glm::vec3 rn = faceNormal(sh, f.primitive, plan_.casterTime, rp, rp + t.geometricNormal, t.geometricNormal);
-    return {rp, rn, 1u};
+    return {rp, rn, 1u, plan_.casterTime};
   }
 
   const Scene& scene_;

@@ -120,6 +120,25 @@ glm::vec2 samplePoint(uint32_t px, uint32_t py, int sample, SampleGrid g) {
               static_cast<float>(g.samples)};
 }
 
+// Shutter time of sample `sample` for a receiver over the whole shutter (ground_truth.h): the
+// golden-ratio sequence rotated by hash3(px, py, kTimeDimension), fract(r + sample / phi).
+constexpr uint32_t kTimeDimension = 0x7fffffffu;  // above every light dimension (2 * 65536 + 1)
+float sampleTime(uint32_t px, uint32_t py, int sample) {
+  constexpr double kInvPhi = 0.61803398874989484820;
+  const double r = static_cast<double>(unitFloat(hash3(px, py, kTimeDimension)));
+  const double t = r + static_cast<double>(sample) * kInvPhi;
+  return std::min(static_cast<float>(t - std::floor(t)), std::nextafter(1.0f, 0.0f));
+}
+
+// The time of every ray of one receiver: its own (a point of a moving surface), or one per sample
+// over the whole shutter; 0 when nothing moves (Embree ignores it then).
+struct RayTimes {
+  bool perSample = false;
+  float fixed = 0.0f;
+  uint32_t px = 0, py = 0;
+  float at(int sample) const { return perSample ? sampleTime(px, py, sample) : fixed; }
+};
+
 // One receiver's rays (ground_truth.h): from x + eps n.
 struct ReceiverRays {
   glm::vec3 x, n, org;
@@ -166,7 +185,7 @@ struct PacketCall<16> {
 // packed in order).
 template <int N>
 int litPacket(RTCScene scene, const ReceiverRays& rr, const RectLight& light, uint32_t px, uint32_t py,
-              SampleGrid grid) {
+              SampleGrid grid, const RayTimes& times) {
   using Call = PacketCall<N>;
   typename Call::Ray ray;
   alignas(64) int valid[N];
@@ -174,7 +193,7 @@ int litPacket(RTCScene scene, const ReceiverRays& rr, const RectLight& light, ui
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // one origin, directions within the light's cone
   int lit = 0, lanes = 0;
-  const auto set = [&](int l, glm::vec3 org, glm::vec3 dir, bool on) {
+  const auto set = [&](int l, glm::vec3 org, glm::vec3 dir, float time, bool on) {
     valid[l] = on ? -1 : 0;
     ray.org_x[l] = org.x;
     ray.org_y[l] = org.y;
@@ -184,13 +203,14 @@ int litPacket(RTCScene scene, const ReceiverRays& rr, const RectLight& light, ui
     ray.dir_z[l] = dir.z;
     ray.tnear[l] = 0.0f;
     ray.tfar[l] = kTFar;
-    ray.time[l] = 0.0f;
+    ray.time[l] = time;
     ray.mask[l] = ~0u;
     ray.id[l] = 0;
     ray.flags[l] = 0;
   };
   const auto flush = [&] {
-    for (int l = lanes; l < N; ++l) set(l, glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), false);  // masked off
+    for (int l = lanes; l < N; ++l)
+      set(l, glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), 0.0f, false);  // masked off
     Call::occluded(valid, scene, &ctx, &ray);
     for (int l = 0; l < lanes; ++l) lit += ray.tfar[l] >= 0.0f ? 1 : 0;  // occluded: tfar = -inf
     lanes = 0;
@@ -198,7 +218,7 @@ int litPacket(RTCScene scene, const ReceiverRays& rr, const RectLight& light, ui
   for (int s = 0; s < grid.count(); ++s) {
     glm::vec3 dir;
     if (!rr.make(light.point(samplePoint(px, py, s, grid)), dir)) continue;
-    set(lanes++, rr.org, dir, true);
+    set(lanes++, rr.org, dir, times.at(s), true);
     if (lanes == N) flush();
   }
   if (lanes > 0) flush();
@@ -206,7 +226,7 @@ int litPacket(RTCScene scene, const ReceiverRays& rr, const RectLight& light, ui
 }
 
 int litSingle(RTCScene scene, const ReceiverRays& rr, const RectLight& light, uint32_t px, uint32_t py,
-              SampleGrid grid) {
+              SampleGrid grid, const RayTimes& times) {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   int lit = 0;
@@ -220,7 +240,7 @@ int litSingle(RTCScene scene, const ReceiverRays& rr, const RectLight& light, ui
                .dir_x = dir.x,
                .dir_y = dir.y,
                .dir_z = dir.z,
-               .time = 0.0f,
+               .time = times.at(s),
                .tfar = kTFar,
                .mask = ~0u,
                .id = 0,
@@ -269,7 +289,12 @@ SampleGrid sampleGrid(const RectLight& light, int samples) {
 
 // ---- Scene --------------------------------------------------------------------------------------
 
-RayScene::RayScene(const Geometry& casters) {
+RayScene::RayScene(const Geometry& casters, std::span<const glm::vec3> open,
+                   std::span<const glm::vec3> close) {
+  if (open.size() != close.size() || (!open.empty() && open.size() != casters.positions.size()))
+    throw std::invalid_argument(
+        "ground truth: the casters' open and close positions must match their positions");
+  moves_ = !open.empty();
   device_ = rtcNewDevice(nullptr);
   if (!device_) {
     checkEmbree(nullptr, "rtcNewDevice");
@@ -292,6 +317,7 @@ RayScene::RayScene(const Geometry& casters) {
     constexpr uint32_t kUnused = ~0u;
     std::vector<uint32_t> remap(casters.positions.size(), kUnused);
     std::vector<glm::vec3> vertices;
+    std::vector<uint32_t> source;  // each copied vertex's index in `casters`
     std::vector<uint32_t> indices;
     indices.reserve(casters.indices.size());
     for (size_t t = 0; t < casters.triangles(); ++t) {
@@ -300,8 +326,10 @@ RayScene::RayScene(const Geometry& casters) {
         const uint32_t v = casters.indices[3 * t + static_cast<size_t>(k)];
         if (v >= casters.positions.size())
           throw std::invalid_argument("ground truth: caster index " + std::to_string(v) + " out of range");
-        const glm::vec3 p = casters.positions[v];
-        finite = finite && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+        const auto ok = [](glm::vec3 p) {
+          return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+        };
+        finite = finite && (moves_ ? ok(open[v]) && ok(close[v]) : ok(casters.positions[v]));
       }
       if (!finite) {
         ++dropped_;
@@ -312,6 +340,7 @@ RayScene::RayScene(const Geometry& casters) {
         if (remap[v] == kUnused) {
           remap[v] = static_cast<uint32_t>(vertices.size());
           vertices.push_back(casters.positions[v]);
+          source.push_back(v);
         }
         indices.push_back(remap[v]);
       }
@@ -323,22 +352,29 @@ RayScene::RayScene(const Geometry& casters) {
         if (geom) rtcReleaseGeometry(geom);
         throw std::runtime_error(std::string("embree: rtcNewGeometry failed: ") + errorName(e));
       }
-      // Buffers Embree allocates itself are padded so that the last vertex can be read with a
-      // 16-byte load.
-      auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
-          geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertices.size()));
+      // Moving casters: two time steps (open, close), which Embree blends linearly over the
+      // ray's time in [0, 1]. Buffers Embree allocates itself are padded so that the last vertex
+      // can be read with a 16-byte load.
+      const unsigned steps = moves_ ? 2u : 1u;
+      if (moves_) rtcSetGeometryTimeStepCount(geom, steps);
+      float* vb[2] = {nullptr, nullptr};
+      for (unsigned k = 0; k < steps; ++k)
+        vb[k] = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_VERTEX, k, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertices.size()));
       auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
           geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), triangles_));
-      if (!vb || !ib) {
+      if (!vb[0] || (moves_ && !vb[1]) || !ib) {
         rtcReleaseGeometry(geom);
         checkEmbree(device_, "rtcSetNewGeometryBuffer");
         throw std::runtime_error("embree: rtcSetNewGeometryBuffer returned no buffer");
       }
-      for (size_t i = 0; i < vertices.size(); ++i) {
-        vb[3 * i + 0] = vertices[i].x;
-        vb[3 * i + 1] = vertices[i].y;
-        vb[3 * i + 2] = vertices[i].z;
-      }
+      for (unsigned k = 0; k < steps; ++k)
+        for (size_t i = 0; i < vertices.size(); ++i) {
+          const glm::vec3 p = !moves_ ? vertices[i] : k == 0 ? open[source[i]] : close[source[i]];
+          vb[k][3 * i + 0] = p.x;
+          vb[k][3 * i + 1] = p.y;
+          vb[k][3 * i + 2] = p.z;
+        }
       std::copy(indices.begin(), indices.end(), ib);
       rtcCommitGeometry(geom);
       rtcAttachGeometry(scene_, geom);
@@ -379,19 +415,24 @@ uint64_t traceVisibility(const RayScene& scene, const ReceiverImage& receivers, 
           if (glm::dot(r.position - c, ln) > 0.0f) {
             const ReceiverRays rr(r, eps);
             const auto px = static_cast<uint32_t>(x), py = static_cast<uint32_t>(y);
+            RayTimes times;
+            if (scene.moves()) {
+              times = {
+                  .perSample = r.wholeShutter(), .fixed = std::clamp(r.time, 0.0f, 1.0f), .px = px, .py = py};
+            }
             int lit = 0;
             switch (width) {
               case 16:
-                lit = litPacket<16>(scene.handle(), rr, light, px, py, grid);
+                lit = litPacket<16>(scene.handle(), rr, light, px, py, grid, times);
                 break;
               case 8:
-                lit = litPacket<8>(scene.handle(), rr, light, px, py, grid);
+                lit = litPacket<8>(scene.handle(), rr, light, px, py, grid, times);
                 break;
               case 4:
-                lit = litPacket<4>(scene.handle(), rr, light, px, py, grid);
+                lit = litPacket<4>(scene.handle(), rr, light, px, py, grid, times);
                 break;
               default:
-                lit = litSingle(scene.handle(), rr, light, px, py, grid);
+                lit = litSingle(scene.handle(), rr, light, px, py, grid, times);
                 break;
             }
             v = static_cast<float>(lit) / static_cast<float>(grid.count());  // exactly 1 when all lit
@@ -410,7 +451,8 @@ uint64_t traceVisibility(const RayScene& scene, const ReceiverImage& receivers, 
 // ---- Key and cache ------------------------------------------------------------------------------
 
 uint64_t groundTruthKey(const Geometry& casters, const ReceiverImage& receivers, const RectLight& light,
-                        int samples) {
+                        int samples, std::span<const glm::vec3> open, std::span<const glm::vec3> close) {
+  const bool moves = !open.empty();
   Hasher h;
   h.u32(kFormatVersion);
   h.u32(static_cast<uint32_t>(samples));
@@ -428,6 +470,7 @@ uint64_t groundTruthKey(const Geometry& casters, const ReceiverImage& receivers,
       if (!r.valid) continue;
       h.vec3(r.position);
       h.vec3(r.normal);
+      if (moves) h.f32(r.time);
     }
   const size_t tris = casters.triangles();
   h.u32(static_cast<uint32_t>(tris));
@@ -436,6 +479,14 @@ uint64_t groundTruthKey(const Geometry& casters, const ReceiverImage& receivers,
     const uint32_t v = casters.indices[i];
     h.u32(v);
     h.vec3(v < casters.positions.size() ? casters.positions[v] : glm::vec3(NAN));
+  }
+  if (moves) {           // static scenes keep their keys (and cache entries)
+    h.u32(0x6d6f7665u);  // "move"
+    for (size_t i = 0; i < tris * 3; ++i) {
+      const uint32_t v = casters.indices[i];
+      h.vec3(v < open.size() ? open[v] : glm::vec3(NAN));
+      h.vec3(v < close.size() ? close[v] : glm::vec3(NAN));
+    }
   }
   return h.finish();
 }
@@ -446,8 +497,8 @@ std::string GroundTruthStats::summary() const {
   char buf[320];
   std::string line;
   if (grid.longRows() == 0)
-    std::snprintf(buf, sizeof buf, "reference: %d samples per receiver (%d rows of %d)", grid.count(), grid.rows,
-                  grid.base());
+    std::snprintf(buf, sizeof buf, "reference: %d samples per receiver (%d rows of %d)", grid.count(),
+                  grid.rows, grid.base());
   else
     std::snprintf(buf, sizeof buf, "reference: %d samples per receiver (%d rows of %d or %d)", grid.count(),
                   grid.rows, grid.base(), grid.base() + 1);
@@ -464,6 +515,7 @@ std::string GroundTruthStats::summary() const {
                 packetWidth, msTrace, mrays);
   line += buf;
   if (dropped > 0) line += " (" + std::to_string(dropped) + " non-finite triangles left out)";
+  if (moving) line += "; casters moving: rays at shutter times (static receivers: the whole shutter)";
   if (cacheEntry.empty())
     line += "; no cache";
   else if (cacheWritten)
@@ -480,22 +532,24 @@ class Job {
  public:
   // Key and cache lookup; on a miss, the scene. In the caller's arena.
   void prepare(const Geometry& casters, const ReceiverImage& receivers, const RectLight& light, int samples,
-               ResultCache* cache) {
+               ResultCache* cache, std::span<const glm::vec3> open, std::span<const glm::vec3> close) {
     const auto t0 = Clock::now();
     receivers_ = &receivers;
     light_ = light;
     cache_ = cache;
     stats.grid = sampleGrid(light, samples);
     if (cache) {
-      stats.key = groundTruthKey(casters, receivers, light, samples);
+      stats.key = groundTruthKey(casters, receivers, light, samples, open, close);
       stats.cacheEntry = cache->name(stats.key);
-      if (std::optional<raster::ImageFloat> hit = cache->load(stats.key, receivers.width(), receivers.height())) {
+      if (std::optional<raster::ImageFloat> hit =
+              cache->load(stats.key, receivers.width(), receivers.height())) {
         cached_ = std::move(*hit);
         stats.cacheHit = true;
       }
     }
     if (!stats.cacheHit) {
-      scene_ = std::make_unique<RayScene>(casters);
+      scene_ = std::make_unique<RayScene>(casters, open, close);
+      stats.moving = scene_->moves();
       stats.packetWidth = scene_->packetWidth();
       stats.triangles = scene_->triangles();
       stats.dropped = scene_->dropped();
@@ -537,7 +591,8 @@ class Reference final : public Technique {
     const auto t0 = Clock::now();
     const int samples = params.integer("samples");
     ctx.raster.run([&] {
-      job_.prepare(ctx.casterGeometry(), *ctx.in.receivers, ctx.in.light, samples, ctx.in.cache);
+      job_.prepare(ctx.casterGeometry(), *ctx.in.receivers, ctx.in.light, samples, ctx.in.cache,
+                   ctx.in.castersOpen, ctx.in.castersClose);
     });
     ctx.times.msMaps += msSince(t0);
   }
@@ -558,7 +613,8 @@ GroundTruthStats computeGroundTruth(const Geometry& casters, const ReceiverImage
                                     const RectLight& light, const GroundTruthOptions& options,
                                     raster::ImageFloat& out) {
   Job job;
-  job.prepare(casters, receivers, light, options.samples, options.cache);
+  job.prepare(casters, receivers, light, options.samples, options.cache, options.castersOpen,
+              options.castersClose);
   job.evaluate(out);
   return job.stats;
 }
@@ -579,7 +635,8 @@ TechniqueInfo referenceTechnique() {
       .isReference = true,
       .make = [] { return std::make_unique<Reference>(); },
       // Embree's high-quality BVH and its copy of the vertices: about 160 bytes per triangle.
-      .peakBytes = [](const ParamSet&, uint64_t triangles) { return triangles * 160; }};
+      .peakBytes = [](const ParamSet&, uint64_t triangles) { return triangles * 160; },
+      .samplesTime = true};
 }
 
 }  // namespace penumbra::shadows

@@ -11,6 +11,16 @@
 // jittered uniformly inside it by hash3(pixel x, pixel y, 2 * sample + dimension) (sampling.h),
 // samples numbered row by row. Random numbers depend on the pixel and the sample only, so the
 // image is the same at every thread count and in every run. V = (unoccluded samples) / samples.
+//
+// Moving casters (ShadowInputs::castersOpen, motion-blurred soft shadows): the casters are an
+// Embree scene of two time steps, each vertex moving on the straight line from its open to its
+// close position as the rasterizer's time-continuous triangles do, and each ray has a time. A
+// receiver of a static surface (Receiver::wholeShutter) averages v over light and shutter time,
+//     V(x) = integral over t in [0, 1] of (1/A) integral over the light of v(x, y, t) dA_y dt,
+// sample s at time fract(r + s / phi) (the golden-ratio sequence, r = hash3(px, py, 2^31 - 1)):
+// for each s the pair (light point, time) is uniform over its cell times the shutter, so the
+// estimate is unbiased, and the times of a receiver's samples are spread evenly. A receiver on a
+// moving surface is placed at one time (Receiver::time) and its rays are all at that time.
 // Background texels get 1, receivers on or behind the light plane (dot(x - center, normal) <= 0)
 // get 0, as forEachReceiver. A sample below the tangent plane is blocked (not traced).
 //
@@ -43,6 +53,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "raster/image.h"
@@ -58,6 +69,9 @@ namespace penumbra::shadows {
 struct GroundTruthOptions {
   int samples = 1024;    // rays per receiver, [1, 65536]; the grid may round it up (sampleGrid)
   ResultCache* cache = nullptr;  // null: none
+  // Moving casters: every caster vertex at shutter open and close (ShadowInputs::castersOpen);
+  // empty: static.
+  std::span<const glm::vec3> castersOpen{}, castersClose{};
 };
 
 // The stratified grid of exactly `samples` cells of equal area 1/samples on the light (uv units),
@@ -85,13 +99,17 @@ SampleGrid sampleGrid(const RectLight& light, int samples);
 // when Embree fails.
 class RayScene {
  public:
-  explicit RayScene(const Geometry& casters);
+  // open, close: the casters' vertices at shutter open and close (both or neither; each as long as
+  // casters.positions): a scene of two time steps.
+  explicit RayScene(const Geometry& casters, std::span<const glm::vec3> open = {},
+                    std::span<const glm::vec3> close = {});
   ~RayScene();
   RayScene(const RayScene&) = delete;
   RayScene& operator=(const RayScene&) = delete;
 
   size_t triangles() const { return triangles_; }  // kept
   size_t dropped() const { return dropped_; }      // triangles with a non-finite vertex, left out
+  bool moves() const { return moves_; }            // two time steps: rays carry a time
   // Rays per Embree call in traceVisibility: the widest packet Embree runs natively on this CPU
   // (16, 8 or 4: rtcOccluded16/8/4, every ray of a packet from one receiver), else 1 (rtcOccluded1).
   int packetWidth() const { return packetWidth_; }
@@ -102,6 +120,7 @@ class RayScene {
   RTCSceneTy* scene_ = nullptr;
   size_t triangles_ = 0, dropped_ = 0;
   int packetWidth_ = 1;
+  bool moves_ = false;
 };
 
 // Fills `out` (resized to the receivers' size) with V for every receiver, rows in parallel with
@@ -115,10 +134,12 @@ uint64_t traceVisibility(const RayScene& scene, const ReceiverImage& receivers, 
 // corners of every caster triangle in order (positions the indices reference, and the indices),
 // the receivers' size and for each texel its valid flag and, when valid, its position and normal,
 // the light's geometry (center, right, up, width, height: not its color or intensity, which V does
-// not depend on) and the sample count. A chain of splitmix64 finalizers over 64-bit words (float
+// not depend on) and the sample count; with moving casters also each referenced vertex's open and
+// close positions and each valid receiver's time. A chain of splitmix64 finalizers over 64-bit words (float
 // bits, so -0 and +0 differ): deterministic, not cryptographic.
 uint64_t groundTruthKey(const Geometry& casters, const ReceiverImage& receivers, const RectLight& light,
-                        int samples);
+                        int samples, std::span<const glm::vec3> open = {},
+                        std::span<const glm::vec3> close = {});
 
 // What computeGroundTruth did.
 struct GroundTruthStats {
@@ -131,6 +152,7 @@ struct GroundTruthStats {
   uint64_t key = 0;                 // 0 when no cache was given
   std::string cacheEntry;           // the cache's name of the key, "" when no cache was given
   bool cacheHit = false, cacheWritten = false;
+  bool moving = false;     // the casters moved: a scene of two time steps
   std::string cacheError;  // why the cache was not written, or ""
   double msPrepare = 0;    // key, cache lookup, scene build
   double msTrace = 0;      // tracing, cache write

@@ -41,6 +41,11 @@ struct Receiver {
                              // plane of V's definition (area_light.h) and of every bias and offset;
                              // an interpolated shading normal is for shading only
   uint32_t valid = 0;        // 0: background, nothing to shade
+  // The shutter time the receiver is at, when casters move (ShadowInputs::castersOpen): a point of
+  // a moving surface is placed at one time (the frame's casters' time) and sees the casters then;
+  // kWholeShutter (a static surface) sees them over the whole shutter, V averaged over time.
+  float time = -1.0f;
+  bool wholeShutter() const { return time < 0.0f; }
 };
 using ReceiverImage = raster::Image<Receiver>;
 

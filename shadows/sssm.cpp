@@ -265,6 +265,11 @@ void Sssm::prepare(ShadowContext& ctx, const ParamSet& params) {
       std::max(set_.strata, 1), static_cast<double>(focus_), wide.note.c_str());
   ctx.notes.push_back(buf);
   ctx.notes.push_back("sssm: light-lens pass: " + stoch_.report(stochastic::boundMethodName(set_.method)));
+  if (ctx.in.castersMove())
+    ctx.notes.push_back(
+        "sssm: casters move: every sample also has a shutter time (the light strata's blocks take the "
+        "shutter's "
+        "strata too), so the map holds the casters over the whole shutter: motion-blurred soft shadows");
   std::string depths;
   for (float d : planeDepth_) {
     std::snprintf(buf, sizeof buf, "%s%.4g", depths.empty() ? "" : ", ", static_cast<double>(d));
@@ -295,6 +300,12 @@ void Sssm::prepare(ShadowContext& ctx, const ParamSet& params) {
 void Sssm::renderSamples(ShadowContext& ctx) {
   const RectLight& light = ctx.in.light;
   const Geometry& geo = ctx.in.casters;
+  // Moving casters: each sample also draws a shutter time, and the lens sees every triangle where
+  // it is at that time (the vertices at open and close, stochastic/coverage.h's time-continuous
+  // triangles). Static: the one set of positions (open = close).
+  const bool motion = ctx.in.castersMove();
+  const std::span<const glm::vec3> open = motion ? ctx.in.castersOpen : geo.positions;
+  const std::span<const glm::vec3> close = motion ? ctx.in.castersClose : geo.positions;
   // Every surface, receivers included (the moments of a lit texel must be its surface's, as for
   // every moment map: moments.h momentCasters), less what lies wholly behind the light or beyond
   // the farthest receiver; the lens sees beyond the centre's frustum, so its sides do not cull.
@@ -302,30 +313,35 @@ void Sssm::renderSamples(ShadowContext& ctx) {
   tris.reserve(geo.indices.size());
   for (size_t t = 0; t < geo.triangles(); ++t) {
     const uint32_t* tri = &geo.indices[t * 3];
-    bool behind = true, beyond = true;
-    for (int k = 0; k < 3; ++k) {
-      const float d = view_.toView(geo.positions[tri[k]]).z;
-      behind = behind && !(d > 0.0f);
-      beyond = beyond && d > zFar_;
-    }
+    bool behind = true, beyond = true;  // at both ends, so at every time (depth is linear in it)
+    for (int k = 0; k < 3; ++k)
+      for (const glm::vec3& p : {open[tri[k]], close[tri[k]]}) {
+        const float d = view_.toView(p).z;
+        behind = behind && !(d > 0.0f);
+        beyond = beyond && d > zFar_;
+      }
     if (!behind && !beyond) tris.insert(tris.end(), tri, tri + 3);
   }
   // Clip positions with a conventional depth (the stochastic rasterizer keeps the smaller z / w):
   // the view's x, y and w rows, z = w - near (0 at the near plane, towards 1 far away).
   glm::mat4 m = view_.viewProj;
   for (int c = 0; c < 4; ++c) m[c][2] = m[c][3] - m[c][2];
-  std::vector<glm::vec4> clip(geo.positions.size());
-  for (size_t i = 0; i < clip.size(); ++i) clip[i] = m * glm::vec4(geo.positions[i], 1.0f);
+  std::vector<glm::vec4> clip(geo.positions.size()), clip1;
+  for (size_t i = 0; i < clip.size(); ++i) clip[i] = m * glm::vec4(open[i], 1.0f);
+  if (motion) {
+    clip1.resize(clip.size());
+    for (size_t i = 0; i < clip.size(); ++i) clip1[i] = m * glm::vec4(close[i], 1.0f);
+  }
   const std::vector<uint32_t> surface(tris.size() / 3, 0u);
 
   // The light as the lens: a lens point (u, v) in [-1, 1]^2 is the light point (u w/2, v h/2);
   // coverage.h's shear x += u kx (w - F) with kx = (w/2) P00 / F, P00 = 2 / (tanHi.x - tanLo.x).
   stochastic::StochasticInput in;
   in.clip0 = clip;
-  in.clip1 = clip;
+  in.clip1 = motion ? std::span<const glm::vec4>(clip1) : std::span<const glm::vec4>(clip);
   in.indices = tris;
   in.surface = surface;
-  in.motion = false;
+  in.motion = motion;
   in.lens.kx = 0.5f * light.width * (2.0f / (view_.tanHi.x - view_.tanLo.x)) / focus_;
   in.lens.ky = 0.5f * light.height * (2.0f / (view_.tanHi.y - view_.tanLo.y)) / focus_;
   in.lens.focusW = focus_;
@@ -333,7 +349,7 @@ void Sssm::renderSamples(ShadowContext& ctx) {
   cfg.method = set_.method;
   cfg.pattern.spp = 1;
   cfg.pattern.frame = static_cast<uint32_t>(set_.frame);
-  cfg.pattern.motion = false;
+  cfg.pattern.motion = motion;
   cfg.pattern.shape = stochastic::LensShape::Square;
   cfg.pattern.blockStrata = set_.strata > 1 ? set_.strata : 0;
   std::vector<uint32_t> sampleTri;
@@ -375,8 +391,12 @@ void Sssm::renderSamples(ShadowContext& ctx) {
         const double f = static_cast<double>(focus_);
         const glm::dvec3 o = c + static_cast<double>(L.x) * right + static_cast<double>(L.y) * up;
         const glm::dvec3 q = c + f * (tx * right + ty * up + axis);
-        const glm::dvec3 p0(geo.positions[tris[t * 3]]), p1(geo.positions[tris[t * 3 + 1]]),
-            p2(geo.positions[tris[t * 3 + 2]]);
+        // The triangle at the sample's time (open + (close - open) t, in double).
+        const auto at = [&](size_t j) {
+          const glm::dvec3 a(open[tris[t * 3 + j]]), b(close[tris[t * 3 + j]]);
+          return a + (b - a) * static_cast<double>(s.t);
+        };
+        const glm::dvec3 p0 = at(0), p1 = at(1), p2 = at(2);
         const glm::dvec3 nrm = glm::cross(p1 - p0, p2 - p0);
         const double den = glm::dot(q - o, nrm);
         double d = den != 0.0 ? f * glm::dot(p0 - o, nrm) / den : 0.0;
@@ -911,7 +931,8 @@ TechniqueInfo sssmTechnique() {
             const uint64_t texels = side * side;
             const auto planes = static_cast<uint64_t>(params.integer("planes"));
             return texels * (100 + 196 + 16 * planes);
-          }};
+          },
+          .samplesTime = true};
 }
 
 }  // namespace penumbra::shadows

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include "shadows/registry_list.h"
@@ -153,6 +154,45 @@ std::string techniqueNames() {
   return s;
 }
 
+namespace {
+
+// Moving casters: the culling tested each triangle where it is at the casters' time, but on its
+// way it may cross the light's region. Every triangle with a moving vertex is kept (in order, among
+// the kept static ones), and the nearest depth allows for each kept vertex's open and close
+// positions (depth along the light's axis is linear in time, so its minimum is at an end).
+void keepMovingCasters(const ShadowInputs& in, CasterSet& set) {
+  const Geometry& g = in.casters;
+  if (in.castersOpen.size() != g.positions.size() || in.castersClose.size() != g.positions.size())
+    throw std::invalid_argument("shadows: castersOpen and castersClose must match the casters' positions");
+  const auto moves = [&](uint32_t v) {
+    return v < g.positions.size() && in.castersOpen[v] != in.castersClose[v];
+  };
+  std::vector<uint32_t> kept;
+  kept.reserve(set.indices.size());
+  size_t next = 0;  // the next triangle of set.indices (a subsequence of g.indices, in order)
+  for (size_t t = 0; t < g.triangles(); ++t) {
+    const uint32_t* tri = &g.indices[3 * t];
+    const bool inSet = next + 3 <= set.indices.size() &&
+                       std::equal(tri, tri + 3, set.indices.begin() + static_cast<std::ptrdiff_t>(next));
+    if (inSet) next += 3;
+    if (inSet || moves(tri[0]) || moves(tri[1]) || moves(tri[2])) kept.insert(kept.end(), tri, tri + 3);
+  }
+  set.trianglesCulled = set.trianglesIn - kept.size() / 3;
+  set.indices = std::move(kept);
+  const RectLight& light = in.light;
+  if (set.minDepth == 0.0f) set.minDepth = std::numeric_limits<float>::max();  // 0: none kept
+  for (uint32_t v : set.indices) {
+    if (v >= g.positions.size()) continue;
+    for (const glm::vec3& p : {in.castersOpen[v], in.castersClose[v]}) {
+      const float d = toLightSpace(light, p).z;
+      if (d > 0.0f && d < set.minDepth) set.minDepth = d;
+    }
+  }
+  if (set.indices.empty() || set.minDepth == std::numeric_limits<float>::max()) set.minDepth = 0.0f;
+}
+
+}  // namespace
+
 ShadowResult computeShadows(raster::Rasterizer& raster, const ShadowInputs& in, const TechniqueInfo& info,
                             const ParamSet& params) {
   ShadowResult out;
@@ -166,6 +206,7 @@ ShadowResult computeShadows(raster::Rasterizer& raster, const ShadowInputs& in, 
     ctx.casters.indices.assign(in.casters.indices.begin(), in.casters.indices.end());
     ctx.casters.trianglesCulled = 0;
   }
+  if (in.castersMove() && !ctx.region.empty) keepMovingCasters(in, ctx.casters);
   out.msFit = msSince(t0);
   out.region = ctx.region;
   out.trianglesIn = ctx.casters.trianglesIn;

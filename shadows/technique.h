@@ -83,6 +83,14 @@ struct ShadowInputs {
   // Cull triangles outside the light's region (LightRegion). Off only to measure what culling
   // saves: every triangle is drawn, with the same views (near plane and frustum) as with culling.
   bool cullCasters = true;
+  // Moving casters (motion-blurred soft shadows): every vertex of `casters` at shutter open (t = 0)
+  // and close (t = 1), indexed as casters.positions (which holds them at the frame's casters' time);
+  // a vertex at time t is open + (close - open) t. Empty (the default) when nothing moves or the
+  // frame freezes its casters. Techniques that sample time (the reference, sssm) trace or render
+  // the casters at each sample's time; the others use casters.positions. Moving triangles are never
+  // culled (ShadowContext::casters keeps them; the near plane allows for their whole path).
+  std::span<const glm::vec3> castersOpen{}, castersClose{};
+  bool castersMove() const { return !castersOpen.empty(); }
 };
 
 struct StageTimes {
@@ -128,6 +136,9 @@ struct TechniqueInfo {
   // Empty: 32 bytes per texel of one map_size^2 map (up to four float moments, a blur buffer and a
   // min/max pyramid), or nothing without map_size.
   std::function<uint64_t(const ParamSet& params, uint64_t casterTriangles)> peakBytes = nullptr;
+  // Samples shutter time: moving casters (ShadowInputs::castersOpen) cast motion-blurred soft
+  // shadows. The engine hands the casters' motion only to these; the others see them frozen.
+  bool samplesTime = false;
 };
 
 // Every technique, in a fixed order (the ground truth, "reference", last).

@@ -48,6 +48,15 @@ void blockStratum(const SamplePattern& p, int x, int y, uint64_t pixel, Sample& 
   // a, b < 1 (unitFloat < 1 - 2^-24 and the cell index < n), so u, v stay in [-1, 1).
   o.u = std::min(2.0f * a - 1.0f, std::nextafter(1.0f, 0.0f));
   o.v = std::min(2.0f * b - 1.0f, std::nextafter(1.0f, 0.0f));
+  if (!p.motion) return;
+  // Time: the block's n^2 pixels take the n^2 strata of the shutter, in another permutation (so a
+  // pixel's time stratum and lens cell are independent), jittered by the hash (pixel, frame, 3).
+  int tperm[kMaxBlockStrata * kMaxBlockStrata];
+  hashPermutation(tperm, n * n, block, p.frame, 0x300u);
+  const float strata = fn * fn;
+  const float t =
+      (static_cast<float>(tperm[(y % n) * n + (x % n)]) + unitFloat(sampleHash(pixel, p.frame, 3))) / strata;
+  o.t = std::min(t, std::nextafter(1.0f, 0.0f));
 }
 
 }  // namespace

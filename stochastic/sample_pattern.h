@@ -40,7 +40,10 @@ enum class LensShape : uint8_t { Disk, Square };
 // Block stratification of a square lens with one sample per pixel (Liktor et al. 2015, section
 // 7.1): the n^2 pixels of each n x n block of pixels take the n^2 cells of an n x n grid of the lens
 // square, one each, in an order permuted per block by the hash (block, frame), jittered inside the
-// cell by the hash (pixel, frame). Neighbouring pixels then see different parts of the light.
+// cell by the hash (pixel, frame). Neighbouring pixels then see different parts of the light. With
+// motion the block's pixels also take the n^2 strata of the shutter, [k/n^2, (k+1)/n^2), in a second
+// permutation per block (time and lens stratum independent), jittered by the hash (pixel, frame);
+// the lens points are the same with or without motion.
 inline constexpr int kMaxBlockStrata = 8;
 
 struct SamplePattern {
