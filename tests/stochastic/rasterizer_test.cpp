@@ -148,6 +148,48 @@ TEST(SamplePattern, SquareLensBlockStrataTakeEveryCellOnce) {
   EXPECT_TRUE(anyOutsideDisk);  // the square's corners are used, not only the disk
 }
 
+TEST(SamplePattern, SquareLensBlockStrataWithMotionTakeEveryShutterStratumOnce) {
+  // With motion the block's 16 pixels also take the shutter's 16 strata once each; the lens points
+  // are those without motion; which time goes with which lens cell varies from block to block
+  // (a second permutation): over many blocks the two are uncorrelated.
+  SamplePattern p;
+  p.spp = 1;
+  p.shape = LensShape::Square;
+  p.blockStrata = 4;
+  SamplePattern still = p;
+  still.motion = false;
+  double sumCT = 0, sumC = 0, sumT = 0, sumCC = 0, sumTT = 0;
+  int n = 0, samePairing = 0;
+  for (int by = 0; by < 16; ++by)
+    for (int bx = 0; bx < 16; ++bx) {
+      int seen[16] = {};
+      bool diagonal = true;  // cell k with stratum k in every pixel of the block
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+          Sample s, lens;
+          pixelSamples(p, 4 * bx + i, 4 * by + j, &s);
+          pixelSamples(still, 4 * bx + i, 4 * by + j, &lens);
+          ASSERT_EQ(s.u, lens.u);
+          ASSERT_EQ(s.v, lens.v);
+          ASSERT_GE(s.t, 0.0f);
+          ASSERT_LT(s.t, 1.0f);
+          const int stratum = static_cast<int>(s.t * 16.0f);
+          ++seen[stratum];
+          const int cx = static_cast<int>((s.u + 1.0f) * 2.0f), cy = static_cast<int>((s.v + 1.0f) * 2.0f);
+          const double c = cy * 4 + cx, t = stratum;
+          diagonal = diagonal && c == t;
+          sumCT += c * t, sumC += c, sumT += t, sumCC += c * c, sumTT += t * t, ++n;
+        }
+      for (int k = 0; k < 16; ++k) ASSERT_EQ(seen[k], 1) << "block " << bx << "," << by << " stratum " << k;
+      samePairing += diagonal ? 1 : 0;
+    }
+  const double cov = sumCT / n - (sumC / n) * (sumT / n);
+  const double corr =
+      cov / std::sqrt((sumCC / n - (sumC / n) * (sumC / n)) * (sumTT / n - (sumT / n) * (sumT / n)));
+  EXPECT_LT(std::abs(corr), 0.1);
+  EXPECT_EQ(samePairing, 0);
+}
+
 TEST(StochasticRasterizer, DeterministicAcrossThreadCounts) {
   for (const Case& c : cases()) {
     const RunResult one = render(c.soup, c.lens, BoundMethod::DualSpace, 8, 1);
