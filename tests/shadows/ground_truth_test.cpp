@@ -263,13 +263,14 @@ TEST(GroundTruthMotion, MatchesTheTimeAveragedRampAndAReceiverAtOneTime) {
   const RectLight light = downLight(1.0f, 1.0f);
   const Mesh mesh = penumbraMesh(true);
   const float a = 0.3f;
+  const double ad = static_cast<double>(a);
   std::vector<glm::vec3> open = mesh.positions, close = mesh.positions;
   for (size_t k = 0; k < 4; ++k) open[k].x -= a, close[k].x += a;  // the occluder's quad
   const double gain = kH / (kH - kHo);
   const auto shifted = [&](double u, double sh) { return analyticV(u - sh * gain, 1.0); };
   const auto averaged = [&](double u) {
     double sum = 0;
-    for (int k = 0; k < 4096; ++k) sum += shifted(u, -a + 2.0 * a * (k + 0.5) / 4096.0);
+    for (int k = 0; k < 4096; ++k) sum += shifted(u, -ad + 2.0 * ad * (k + 0.5) / 4096.0);
     return sum / 4096.0;
   };
   Row row = penumbraRow(true, 256, 1.0f, 2);
@@ -285,7 +286,7 @@ TEST(GroundTruthMotion, MatchesTheTimeAveragedRampAndAReceiverAtOneTime) {
     const double u = row.u[static_cast<size_t>(i)];
     sumWhole += std::pow(static_cast<double>(v.at(i, 0)) - averaged(u), 2);
     sumFrozen += std::pow(shifted(u, 0.0) - averaged(u), 2);
-    sumAt += std::pow(static_cast<double>(v.at(i, 1)) - shifted(u, 0.5 * a), 2);
+    sumAt += std::pow(static_cast<double>(v.at(i, 1)) - shifted(u, 0.5 * ad), 2);
   }
   const double whole = std::sqrt(sumWhole / 256), at = std::sqrt(sumAt / 256),
                frozen = std::sqrt(sumFrozen / 256);
