@@ -49,6 +49,7 @@
 // gets the min over both). Distinct calls may run concurrently on distinct targets.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -120,6 +121,111 @@ class PointSplatter {
   void add(glm::vec3 p, uint32_t payload);
   void flush();
   uint64_t points() const;  // added so far (after flush: all)
+
+ private:
+  struct State;
+  State* state_;
+};
+
+// ---- Depth-only splatting -------------------------------------------------------------------
+//
+// The paper's own form (Marrs et al. 2018, Listing 2: a 32-bit InterlockedMax of asuint(z / w)):
+// no payload, and the key is the depth's own float bit pattern, so the target *is* a depth map
+// read in place (std::bit_cast<float>(bits)), with no resolve pass. For non-negative floats the bit
+// patterns order as the values do, so the nearest point is
+//   ReversedZOverW  the largest d: an atomic max; an empty texel holds 0 = bits(0.0f), the reversed
+//                   depth maps' "nothing drawn" (shadows/light_view.h);
+//   ZOverW          the smallest d: an atomic min; an empty texel holds bits(1.0f), the far plane.
+// Projection, culling and the texel a point lands in are those of splatPoints above (the same
+// float operations), so the depth at each texel is bit for bit resolveDepth(splatPoints(...)) of
+// the same points (emptyValue 0 or 1), at any thread count, K or SIMD target.
+//
+// Surfels (Zwicker et al. 2001's surface elements, without their reconstruction filter): a point
+// given with two edge vectors u and v stands for the parallelogram p + a u + b v, |a|, |b| <= 1/2,
+// of its surface (view-warped shadows give each point the footprint of its source pixel on its
+// triangle), and is rasterized like a tiny quad: it covers the texels whose *centres* lie inside
+// the parallelogram as projected into the view -- neither the texel a point happens to fall in
+// (the paper's splat, which bloats a silhouette by up to a texel where points are dense and leaves
+// holes where they are sparse) nor more -- and writes there the depth of its plane at that centre,
+// as rasterizing the surface would (not its own depth off the centre, which a shadow test reads as
+// a step of up to half a texel times the slope: the paper's self-shadowing bands, Fig. 11).
+// Per view, with the point at screen s (as above) and depth d = z / w, k = 1 / w, X = x / w,
+// Y = y / w, and for an edge vector e the rows' linear parts r_x . e, ... (in the projection's
+// association: (m0 e.x + m1 e.y) + m2 e.z):
+//     screen edge  J e = (0.5 width (r_x.e - X r_w.e) k, -0.5 height (r_y.e - Y r_w.e) k),
+//     depth step   D e = (r_z.e - d r_w.e) k,
+// A = J u, B = J v, det = A.x B.y - A.y B.x; a texel centre c (i + 0.5, j + 0.5), q = c - s:
+//     a = (B.y q.x - B.x q.y) / det,   b = (A.x q.y - A.y q.x) / det,
+//     covered iff |a| <= h and |b| <= h, h = 1/2 + 1/64 (the linearized parallelograms of
+//     neighbouring surfels meet only to first order: the margin closes the cracks between them),
+//     depth d(c) = d + (a D u + b D v)  (z / w is affine in screen position over a plane: exact
+//     up to rounding), bounded to [d / 2, min(2 d, 1)].
+// The candidate centres are those of the box s +- (|A| + |B|) h per axis (at most 9 texels a side,
+// around the point's own texel: a footprint seen at a grazing angle covers more, and its far part
+// is dropped), inside the view. The point's own screen position must lie inside the view, as for
+// plain points. A degenerate footprint (det 0 or not finite) covers nothing. Points without edge
+// vectors write the texel they fall in with their own depth, as above.
+//
+// Touched rectangles: per view, the smallest rectangle holding every texel written by the call
+// (clearDepthBits of it restores an empty map without touching the rest).
+inline constexpr uint32_t emptyDepthBits(DepthKey key) { return key == DepthKey::ReversedZOverW ? 0u : 0x3F800000u; }
+
+// A surfel's edge vectors (world units; see above).
+struct SurfelAxes {
+  glm::vec3 u{0.0f}, v{0.0f};
+};
+// The surfel box's largest half-width in texels beyond the point's own texel.
+inline constexpr int kMaxSurfelReach = 4;
+
+struct DepthSplatView {
+  glm::mat4 viewProj{1.0f};
+  Image<uint32_t>* target = nullptr;  // depth bits (see above); 1..kMaxTargetSize a side
+};
+
+// Texels [x0, x1) x [y0, y1); empty when x0 >= x1.
+struct SplatRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool empty() const { return x0 >= x1 || y0 >= y1; }
+  void add(const SplatRect& o) {
+    if (o.empty()) return;
+    if (empty()) {
+      *this = o;
+      return;
+    }
+    x0 = std::min(x0, o.x0), y0 = std::min(y0, o.y0), x1 = std::max(x1, o.x1), y1 = std::max(y1, o.y1);
+  }
+};
+
+// Splats points (and, for surfels, their edge vectors: empty or one per point) into the views'
+// depth maps, K views per traversal (viewsPerPass: [1, M] or 0 for M), taking the nearest with what
+// the targets hold. touched: empty, or one per view, set to the rectangle of texels the call wrote
+// (a view sharing its target with another gets its own). Throws std::invalid_argument as
+// splatPoints, and for an edge-vector count other than 0 or N or a touched count other than 0 or M.
+// SplatStats::written counts the (point, view) pairs that passed the point tests (a surfel among
+// them may cover no centre).
+SplatStats splatDepth(std::span<const glm::vec3> points, std::span<const SurfelAxes> surfels,
+                      std::span<const DepthSplatView> views, DepthKey key, int viewsPerPass = 0, int64_t simd = 0,
+                      std::span<SplatRect> touched = {});
+
+// Sets the texels of `rect` (clipped to the image) to emptyDepthBits(key), rows in parallel in the
+// caller's arena; the whole image, padding included, when rect is null.
+void clearDepthBits(Image<uint32_t>& depth, DepthKey key, const SplatRect* rect = nullptr);
+
+// Streaming depth splats, for producers that emit points one at a time from several threads (a
+// fragment stage: view-warped shadows' unbuffered mode): as PointSplatter, per-thread batches of
+// 256 projected and written exactly as splatDepth does, so the maps end up bit for bit those of
+// splatDepth over the same points (and edge vectors, with surfels) in any order. add() is safe from many
+// threads; flush() once every add() has returned, by one thread; touched() after flush().
+class DepthSplatter {
+ public:
+  DepthSplatter(std::span<const DepthSplatView> views, DepthKey key, bool surfels, int64_t simd = 0);
+  ~DepthSplatter();
+  DepthSplatter(const DepthSplatter&) = delete;
+  DepthSplatter& operator=(const DepthSplatter&) = delete;
+  void add(glm::vec3 p, const SurfelAxes& axes = {});  // axes: read with surfels only
+  void flush();
+  uint64_t points() const;                 // added so far (after flush: all)
+  SplatRect touched(size_t view) const;    // the texels written into view `view`
 
  private:
   struct State;

@@ -6,11 +6,13 @@
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <random>
@@ -482,6 +484,305 @@ TEST(Splat, InvalidArgumentsThrow) {
   const SplatStats st = splatPoints({}, {}, one, DepthKey::ZOverW);
   EXPECT_EQ(st.written + st.culled + st.passes, 0u);
   EXPECT_EQ(splatPoints(pts, {}, {}, DepthKey::ZOverW).passes, 0u);
+}
+
+// ---- Depth-only splatting (32-bit depth bits read in place) ----------------------------------
+
+struct DepthResult {
+  std::vector<Image<uint32_t>> targets;
+  std::vector<SplatRect> touched;
+  SplatStats stats;
+};
+
+DepthResult splatDepthOf(const Scene& s, bool reversed, int threads, int k,
+                         int64_t simd = 0) {
+  const DepthKey key = reversed ? DepthKey::ReversedZOverW : DepthKey::ZOverW;
+  DepthResult r;
+  r.targets.resize(static_cast<size_t>(s.targets));
+  for (int t = 0; t < s.targets; ++t)
+    r.targets[static_cast<size_t>(t)].resize(s.width[static_cast<size_t>(t)], s.height[static_cast<size_t>(t)], 12345u);
+  std::vector<DepthSplatView> views;
+  for (size_t v = 0; v < s.viewProj.size(); ++v) views.push_back({s.viewProj[v], &r.targets[static_cast<size_t>(s.targetOf[v])]});
+  r.touched.resize(views.size());
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    for (auto& t : r.targets) clearDepthBits(t, key);
+    r.stats = splatDepth(s.points, {}, views, key, k, simd, r.touched);
+  });
+  return r;
+}
+
+// The depth splat's maps are the 64-bit splat's resolved depth, bit for bit (padding left empty),
+// its stats the same, and each view's touched rectangle the bounding box of the texels its points
+// landed in (from the reference, view by view).
+TEST(SplatDepth, EqualsTheResolvedKeysAtAnyThreadCountPassAndTarget) {
+  tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 8);
+  for (bool reversed : {false, true}) {
+    const DepthKey key = reversed ? DepthKey::ReversedZOverW : DepthKey::ZOverW;
+    const Scene s = makeScene(reversed);
+    const Reference ref = reference(s, reversed, false);
+    std::vector<SplatRect> want(s.viewProj.size());
+    for (size_t v = 0; v < s.viewProj.size(); ++v) {
+      RefTarget one(s.width[v], s.height[v]);
+      for (const glm::vec3& p : s.points) referenceSplat(s.viewProj[v], p, 0, reversed, one);
+      for (int y = 0; y < one.height; ++y)
+        for (int x = 0; x < one.width; ++x)
+          if (one.hits[static_cast<size_t>(y) * static_cast<size_t>(one.width) + static_cast<size_t>(x)].any)
+            want[v].add({x, y, x + 1, y + 1});
+    }
+    const Result keys = splat(s, reversed, false, 2, 0);
+    const float emptyValue = std::bit_cast<float>(emptyDepthBits(key));
+    std::vector<std::pair<int, int64_t>> runs = {{1, 0}, {2, 0}, {7, 0}};
+    for (int64_t target : supportedSimdTargets()) runs.push_back({2, target});
+    for (const auto& [threads, simd] : runs)
+      for (int k : {1, 5, 24}) {
+        SCOPED_TRACE(testing::Message() << (reversed ? "reversed, " : "") << threads << " threads, K = " << k << ", "
+                                        << simdTargetName(simdTargetRun(simd)));
+        const DepthResult r = splatDepthOf(s, reversed, threads, k, simd);
+        EXPECT_EQ(r.stats.written, ref.landed);
+        EXPECT_EQ(r.stats.written + r.stats.culled, s.points.size() * s.viewProj.size());
+        EXPECT_EQ(r.stats.nonFinite, s.nonFinite);
+        EXPECT_EQ(r.stats.passes, static_cast<uint64_t>((24 + k - 1) / k));
+        ImageFloat depth;
+        for (size_t t = 0; t < r.targets.size(); ++t) {
+          resolveDepth(keys.targets[t], key, depth, emptyValue);
+          size_t bad = 0;
+          for (int y = 0; y < r.targets[t].paddedRows(); ++y)
+            for (int x = 0; x < r.targets[t].stride(); ++x) {
+              const bool inside = x < depth.width() && y < depth.height();
+              const uint32_t expected = inside ? std::bit_cast<uint32_t>(depth.at(x, y)) : emptyDepthBits(key);
+              if (r.targets[t].at(x, y) != expected && bad++ < 3)
+                ADD_FAILURE() << "target " << t << " (" << x << ", " << y << "): " << std::hex << r.targets[t].at(x, y)
+                              << " want " << expected;
+            }
+          EXPECT_EQ(bad, 0u);
+        }
+        for (size_t v = 0; v < want.size(); ++v) {
+          EXPECT_EQ(r.touched[v].x0, want[v].x0) << "view " << v;
+          EXPECT_EQ(r.touched[v].y0, want[v].y0) << "view " << v;
+          EXPECT_EQ(r.touched[v].x1, want[v].x1) << "view " << v;
+          EXPECT_EQ(r.touched[v].y1, want[v].y1) << "view " << v;
+        }
+      }
+  }
+}
+
+// One surfel into one view, written plainly from splat.h's formulas (the kernel's operations in
+// its order): each covered texel centre's depth, kept if nearer (reversed depth: larger).
+void referenceSurfel(const glm::mat4& vp, glm::vec3 p, const SurfelAxes& ax, Image<uint32_t>& map) {
+  const auto row = [&](int r) { return glm::vec4(vp[0][r], vp[1][r], vp[2][r], vp[3][r]); };
+  const auto proj = [&](glm::vec4 m) { return (m.x * p.x + m.y * p.y) + (m.z * p.z + m.w); };
+  const auto lin = [&](glm::vec4 m, glm::vec3 e) { return (m.x * e.x + m.y * e.y) + m.z * e.z; };
+  const glm::vec4 rx = row(0), ry = row(1), rz = row(2), rw = row(3);
+  const float W = static_cast<float>(map.width()), H = static_cast<float>(map.height());
+  const float cx = proj(rx), cy = proj(ry), cz = proj(rz), cw = proj(rw);
+  const float X = cx / cw, Y = cy / cw, d = cz / cw;
+  const float sx = (X * 0.5f + 0.5f) * W, sy = (0.5f - Y * 0.5f) * H;
+  if (!(cw > 0.0f && cw <= std::numeric_limits<float>::max() && cz >= 0.0f && cz <= cw && sx >= 0.0f && sx < W &&
+        sy >= 0.0f && sy < H))
+    return;
+  const float k = 1.0f / cw, hw = 0.5f * W, nh = -0.5f * H;
+  const float ruw = lin(rw, ax.u), rvw = lin(rw, ax.v);
+  const float Ax = hw * ((lin(rx, ax.u) - X * ruw) * k), Ay = nh * ((lin(ry, ax.u) - Y * ruw) * k);
+  const float Bx = hw * ((lin(rx, ax.v) - X * rvw) * k), By = nh * ((lin(ry, ax.v) - Y * rvw) * k);
+  const float Du = (lin(rz, ax.u) - d * ruw) * k, Dv = (lin(rz, ax.v) - d * rvw) * k;
+  const float inv = 1.0f / (Ax * By - Ay * Bx);
+  const float h = 0.5f + 1.0f / 64.0f, reach = static_cast<float>(kMaxSurfelReach);
+  float ex = (std::abs(Ax) + std::abs(Bx)) * h, ey = (std::abs(Ay) + std::abs(By)) * h;
+  ex = ex <= reach ? ex : reach, ey = ey <= reach ? ey : reach;
+  const int ix = static_cast<int>(sx), iy = static_cast<int>(sy);
+  const int i0 = std::max(static_cast<int>(std::ceil((sx - ex) - 0.5f)), std::max(0, ix - kMaxSurfelReach));
+  const int i1 = std::min(static_cast<int>(std::floor((sx + ex) - 0.5f)), std::min(map.width() - 1, ix + kMaxSurfelReach));
+  const int j0 = std::max(static_cast<int>(std::ceil((sy - ey) - 0.5f)), std::max(0, iy - kMaxSurfelReach));
+  const int j1 = std::min(static_cast<int>(std::floor((sy + ey) - 0.5f)), std::min(map.height() - 1, iy + kMaxSurfelReach));
+  const float m00 = By * inv, m01 = -(Bx * inv), m10 = -(Ay * inv), m11 = Ax * inv;
+  for (int y = j0; y <= j1; ++y)
+    for (int x = i0; x <= i1; ++x) {
+      const float qx = (static_cast<float>(x) + 0.5f) - sx, qy = (static_cast<float>(y) + 0.5f) - sy;
+      const float a = m00 * qx + m01 * qy, b = m10 * qx + m11 * qy;
+      float dc = d + (a * Du + b * Dv);
+      if (!(std::abs(a) <= h && std::abs(b) <= h) || std::isnan(dc)) continue;
+      dc = std::clamp(dc, 0.5f * d, std::min(2.0f * d, 1.0f));
+      map.at(x, y) = std::max(map.at(x, y), std::bit_cast<uint32_t>(dc) & 0x7FFFFFFFu);
+    }
+}
+
+// A view as shadows/light_view.h makes them: reversed infinite depth, from `eye` down -y.
+glm::mat4 reversedDown(glm::vec3 eye, float tanHalf) {
+  glm::mat4 proj(0.0f);
+  proj[0][0] = 1.0f / tanHalf, proj[1][1] = 1.0f / tanHalf, proj[3][2] = 0.5f, proj[2][3] = -1.0f;
+  return proj * glm::lookAtRH(eye, eye - glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(0.0f, 0.0f, -1.0f));
+}
+
+// Surfels tiling a tilted plane: a grid of cells c x c on it, each surfel centred in its cell with
+// the cell's edges as axes (the union of their parallelograms is the plane's rectangle R exactly).
+struct TiledPlane {
+  std::vector<glm::vec3> points;
+  std::vector<SurfelAxes> axes;
+  glm::vec3 origin{-1.0f, 0.0f, -0.8f}, du, dv;  // R = origin + [0, nu] du + [0, nv] dv
+  int nu = 0, nv = 0;
+  TiledPlane(int cellsU, int cellsV, float cell) : nu(cellsU), nv(cellsV) {
+    du = cell * glm::normalize(glm::vec3(1.0f, 0.35f, 0.0f));
+    dv = cell * glm::normalize(glm::vec3(0.1f, -0.25f, 1.0f));
+    for (int j = 0; j < nv; ++j)
+      for (int i = 0; i < nu; ++i) {
+        points.push_back(origin + (static_cast<float>(i) + 0.5f) * du + (static_cast<float>(j) + 0.5f) * dv);
+        axes.push_back({du, dv});
+      }
+  }
+};
+
+// Surfels: every SIMD target, 1 and 3 threads, the view-by-view and the chunked traversal (a cloud
+// over 4 MiB: 160,000 surfels) and the streaming splatter give the plain reference's bits, with touched
+// rectangles holding every written texel.
+TEST(SplatDepth, SurfelsMatchTheReferenceOnEveryTargetAndTraversal) {
+  tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 8);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (int cloud : {3000, 160000}) {
+    // A tilted plane tiled by cells of a third of a texel, then random surfels of every size and
+    // orientation (grazing and degenerate ones among them).
+    const int side = cloud == 3000 ? 40 : 400;
+    const TiledPlane plane(side, side, 0.006f);
+    std::vector<glm::vec3> pts = plane.points;
+    std::vector<SurfelAxes> axes = plane.axes;
+    for (int i = 0; i < 1500; ++i) {
+      pts.push_back(glm::vec3(u(rng), 0.5f * u(rng), u(rng)));
+      const float size = std::pow(10.0f, -3.0f + 2.0f * (0.5f + 0.5f * u(rng)));
+      axes.push_back({size * glm::vec3(u(rng), u(rng), u(rng)), size * glm::vec3(u(rng), u(rng), u(rng))});
+    }
+    axes[axes.size() - 1] = {glm::vec3(0.01f, 0, 0), glm::vec3(0.02f, 0, 0)};  // degenerate: covers nothing
+    axes[axes.size() - 2] = {glm::vec3(0.0f, 0.3f, 0.0f), glm::vec3(0.0f, 0.0f, 0.01f)};  // edge-on, long
+    const glm::mat4 views[] = {reversedDown({0.2f, 3.0f, 0.1f}, 0.45f), reversedDown({-0.5f, 2.5f, 0.4f}, 0.6f)};
+    const int sizes[][2] = {{96, 96}, {61, 77}};
+    std::vector<Image<uint32_t>> want;
+    for (int v = 0; v < 2; ++v) {
+      want.emplace_back(sizes[v][0], sizes[v][1], 0u);
+      for (size_t i = 0; i < pts.size(); ++i) referenceSurfel(views[v], pts[i], axes[i], want.back());
+    }
+    size_t written = 0;
+    for (int y = 0; y < want[0].height(); ++y)
+      for (int x = 0; x < want[0].width(); ++x) written += want[0].at(x, y) != 0u ? 1 : 0;
+    EXPECT_GT(written, 500u);
+    const auto check = [&](std::vector<Image<uint32_t>>& maps, std::span<const SplatRect> touched, const char* what) {
+      for (int v = 0; v < 2; ++v) {
+        size_t bad = 0, outside = 0;
+        for (int y = 0; y < maps[v].height(); ++y)
+          for (int x = 0; x < maps[v].width(); ++x) {
+            bad += maps[v].at(x, y) != want[v].at(x, y) ? 1 : 0;
+            const SplatRect& r = touched[v];
+            outside += maps[v].at(x, y) != 0u && !(x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1) ? 1 : 0;
+          }
+        EXPECT_EQ(bad, 0u) << what << ", view " << v;
+        EXPECT_EQ(outside, 0u) << what << ", view " << v;
+      }
+    };
+    for (int threads : {1, 3})
+      for (int64_t target : supportedSimdTargets()) {
+        SCOPED_TRACE(testing::Message() << cloud << " points, " << threads << " threads, " << simdTargetName(target));
+        std::vector<Image<uint32_t>> maps;
+        for (int v = 0; v < 2; ++v) maps.emplace_back(sizes[v][0], sizes[v][1], 0u);
+        const DepthSplatView dv[] = {{views[0], &maps[0]}, {views[1], &maps[1]}};
+        std::vector<SplatRect> touched(2);
+        tbb::task_arena arena(threads);
+        arena.execute([&] { splatDepth(pts, axes, dv, DepthKey::ReversedZOverW, 1, target, touched); });
+        check(maps, touched, "splatDepth");
+        // The streaming splatter, the surfels added from several threads in any order.
+        std::vector<Image<uint32_t>> streamed;
+        for (int v = 0; v < 2; ++v) streamed.emplace_back(sizes[v][0], sizes[v][1], 0u);
+        const DepthSplatView sv[] = {{views[0], &streamed[0]}, {views[1], &streamed[1]}};
+        DepthSplatter splatter(sv, DepthKey::ReversedZOverW, true, target);
+        arena.execute([&] {
+          tbb::parallel_for(size_t{0}, pts.size(), [&](size_t i) { splatter.add(pts[i], axes[i]); });
+        });
+        splatter.flush();
+        const SplatRect st[] = {splatter.touched(0), splatter.touched(1)};
+        check(streamed, st, "DepthSplatter");
+      }
+  }
+}
+
+// What surfels are for: a plane tiled by surfels is covered like a rasterized plane -- every texel
+// whose centre's ray meets the tiled rectangle R (by more than the margin, 1/64 of a cell) is
+// written, none whose ray misses it is, at the plane's true depth there -- where the same points
+// without axes (the paper's splat) both bloat R's outline and, with cells larger than a texel,
+// leave holes inside it.
+TEST(SplatDepth, SurfelsCoverAPlaneAsRasterizingItWould) {
+  const glm::mat4 vp = reversedDown({0.3f, 4.0f, 0.2f}, 0.5f);
+  const int w = 101, h = 87;
+  const glm::dmat4 inv = glm::inverse(glm::dmat4(vp));
+  for (float cell : {0.02f, 0.065f}) {  // about half a texel and 1.6 texels
+    SCOPED_TRACE(testing::Message() << "cells of " << cell);
+    const TiledPlane plane(static_cast<int>(1.6f / cell), static_cast<int>(1.4f / cell), cell);
+    Image<uint32_t> surf(w, h, 0u), pointMap(w, h, 0u);
+    const DepthSplatView sv[] = {{vp, &surf}}, pv[] = {{vp, &pointMap}};
+    splatDepth(plane.points, plane.axes, sv, DepthKey::ReversedZOverW);
+    splatDepth(plane.points, {}, pv, DepthKey::ReversedZOverW);
+    const glm::dvec3 o(plane.origin), a(plane.du), b(plane.dv), n = glm::cross(a, b);
+    int holes = 0, bloat = 0, pointHoles = 0, pointBloat = 0, inside = 0;
+    double worstDepth = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        // The centre's ray, unprojected at two depths, against the plane: its (s, t) in cells.
+        const double uu = (x + 0.5) * 2.0 / w - 1.0, vv = 1.0 - (y + 0.5) * 2.0 / h;
+        const glm::dvec4 pa4 = inv * glm::dvec4(uu, vv, 1.0, 1.0), pb4 = inv * glm::dvec4(uu, vv, 0.25, 1.0);
+        const glm::dvec3 pa = glm::dvec3(pa4) / pa4.w, pb = glm::dvec3(pb4) / pb4.w;
+        const double t = glm::dot(n, o - pa) / glm::dot(n, pb - pa);
+        const glm::dvec3 q = pa + t * (pb - pa) - o;
+        const double s = glm::dot(q, glm::cross(b, n)) / glm::dot(a, glm::cross(b, n));
+        const double r = glm::dot(q, glm::cross(a, n)) / glm::dot(b, glm::cross(a, n));
+        const double margin = 1.0 / 64.0 + 1e-3;
+        const bool in = s > margin && s < plane.nu - margin && r > margin && r < plane.nv - margin;
+        const bool out = s < -margin || s > plane.nu + margin || r < -margin || r > plane.nv + margin;
+        const bool covered = surf.at(x, y) != 0u, pointCovered = pointMap.at(x, y) != 0u;
+        inside += in ? 1 : 0;
+        holes += in && !covered ? 1 : 0;
+        bloat += out && covered ? 1 : 0;
+        pointHoles += in && !pointCovered ? 1 : 0;
+        pointBloat += out && pointCovered ? 1 : 0;
+        if (covered && in) {
+          const glm::dvec4 c = glm::dmat4(vp) * glm::dvec4(pa + t * (pb - pa), 1.0);
+          const double d = c.z / c.w;
+          worstDepth = std::max(worstDepth, std::abs(static_cast<double>(std::bit_cast<float>(surf.at(x, y))) - d) / d);
+        }
+      }
+    std::printf("cells %.3f: %d texels inside; surfels: %d holes, %d outside, depth within %.2g; points: %d holes, "
+                "%d outside\n",
+                static_cast<double>(cell), inside, holes, bloat, worstDepth, pointHoles, pointBloat);
+    EXPECT_GT(inside, 1000);
+    EXPECT_EQ(holes, 0);
+    EXPECT_EQ(bloat, 0);
+    EXPECT_LT(worstDepth, 1e-5);
+    if (cell < 0.03f) EXPECT_GT(pointBloat, 20);  // dense points: the outline grows
+    else EXPECT_GT(pointHoles, 100);              // sparse points: holes
+  }
+}
+
+TEST(SplatDepth, ClearRectangleAndInvalidArguments) {
+  Image<uint32_t> map(10, 6, 7u);
+  const SplatRect r{2, 1, 5, 3};
+  clearDepthBits(map, DepthKey::ZOverW, &r);
+  for (int y = 0; y < map.paddedRows(); ++y)
+    for (int x = 0; x < map.stride(); ++x)
+      ASSERT_EQ(map.at(x, y), (x >= 2 && x < 5 && y >= 1 && y < 3) ? 0x3F800000u : 7u) << x << ", " << y;
+  const SplatRect outside{-5, -5, 100, 2};  // clipped to the image
+  clearDepthBits(map, DepthKey::ReversedZOverW, &outside);
+  EXPECT_EQ(map.at(9, 1), 0u);
+  EXPECT_EQ(map.at(9, 2), 7u);
+  clearDepthBits(map, DepthKey::ReversedZOverW);
+  for (int y = 0; y < map.paddedRows(); ++y)
+    for (int x = 0; x < map.stride(); ++x) ASSERT_EQ(map.at(x, y), 0u);
+  const std::vector<glm::vec3> pts(3, glm::vec3(0.0f));
+  const std::vector<SurfelAxes> twoSurfels(2);
+  Image<uint32_t> empty;
+  const DepthSplatView one[] = {{glm::mat4(1.0f), &map}}, none[] = {{glm::mat4(1.0f), nullptr}},
+                      zero[] = {{glm::mat4(1.0f), &empty}};
+  std::vector<SplatRect> rects(2);
+  EXPECT_THROW(splatDepth(pts, twoSurfels, one, DepthKey::ZOverW), std::invalid_argument);
+  EXPECT_THROW(splatDepth(pts, {}, none, DepthKey::ZOverW), std::invalid_argument);
+  EXPECT_THROW(splatDepth(pts, {}, zero, DepthKey::ZOverW), std::invalid_argument);
+  EXPECT_THROW(splatDepth(pts, {}, one, DepthKey::ZOverW, 2), std::invalid_argument);
+  EXPECT_THROW(splatDepth(pts, {}, one, DepthKey::ZOverW, 0, 0, rects), std::invalid_argument);
 }
 
 }  // namespace
