@@ -40,6 +40,11 @@ std::string FrameStats::report() const {
                   l.trianglesFlattened,
                   l.trianglesCulled, l.trianglesFlattened - l.trianglesCulled);
     s += buf;
+    if (l.times.msPoints > 0 || l.times.msSplat > 0) {
+      std::snprintf(buf, sizeof buf, "    maps: point generation %.2f ms, clearing and splatting %.2f ms\n",
+                    l.times.msPoints, l.times.msSplat);
+      s += buf;
+    }
     if (l.trianglesMoving > 0) {
       std::snprintf(
           buf, sizeof buf,

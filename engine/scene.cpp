@@ -1,10 +1,14 @@
 #include "engine/scene.h"
 
-#include <glm/geometric.hpp>
+#include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <limits>
 #include <numbers>
-#include <algorithm>
+#include <utility>
+#include <vector>
 
 namespace penumbra::engine {
 
@@ -144,6 +148,42 @@ void computeNormals(Mesh& mesh) {
   }
 }
 
+bool meshIsClosed(const Mesh& mesh) {
+  const size_t nv = mesh.positions.size(), nt = mesh.indices.size() / 3;
+  if (nt == 0) return false;
+  // Weld: each vertex's id is the first vertex with its exact position (equal floats: -0 is +0; a
+  // seam is welded only where the loader duplicated the vertex exactly).
+  const auto key = [&](uint32_t i) {
+    const glm::vec3 p = mesh.positions[i] + glm::vec3(0.0f);  // -0 + 0 = +0
+    return std::array<uint32_t, 3>{std::bit_cast<uint32_t>(p.x), std::bit_cast<uint32_t>(p.y), std::bit_cast<uint32_t>(p.z)};
+  };
+  std::vector<uint32_t> order(nv);
+  for (uint32_t i = 0; i < nv; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return std::pair(key(a), a) < std::pair(key(b), b); });
+  std::vector<uint32_t> weld(nv);
+  for (size_t k = 0; k < nv; ++k)
+    weld[order[k]] = (k > 0 && key(order[k]) == key(order[k - 1])) ? weld[order[k - 1]] : order[k];
+  // Directed edges (a, b) as 64-bit keys: each exactly once, and its reverse present.
+  std::vector<uint64_t> edges;
+  edges.reserve(3 * nt);
+  double volume = 0.0;
+  for (size_t t = 0; t < nt; ++t) {
+    const uint32_t v[3] = {weld[mesh.indices[3 * t]], weld[mesh.indices[3 * t + 1]], weld[mesh.indices[3 * t + 2]]};
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+    for (int e = 0; e < 3; ++e) edges.push_back(uint64_t{v[e]} << 32 | v[(e + 1) % 3]);
+    const glm::dvec3 a(mesh.positions[v[0]]), b(mesh.positions[v[1]]), c(mesh.positions[v[2]]);
+    volume += glm::dot(a, glm::cross(b, c));  // 6 times the signed volume, summed in triangle order
+  }
+  if (edges.empty()) return false;
+  std::sort(edges.begin(), edges.end());
+  for (size_t k = 0; k < edges.size(); ++k) {
+    if (k > 0 && edges[k] == edges[k - 1]) return false;  // an edge used twice in one direction
+    const uint64_t reverse = edges[k] << 32 | edges[k] >> 32;
+    if (!std::binary_search(edges.begin(), edges.end(), reverse)) return false;  // a border edge
+  }
+  return volume > 0.0;
+}
+
 Status validateScene(Scene& scene, const std::string& where) {
   for (size_t mi = 0; mi < scene.meshes.size(); ++mi) {
     Mesh& m = scene.meshes[mi];
@@ -167,6 +207,7 @@ Status validateScene(Scene& scene, const std::string& where) {
     if (m.material >= static_cast<int>(scene.materials.size()))
       return Error{where, what + ": material index " + std::to_string(m.material) + " out of range"};
     computeBounds(m);
+    m.closed = meshIsClosed(m);
   }
   for (const Material& mat : scene.materials)
     if (mat.baseColorTexture >= static_cast<int>(scene.textures.size()))

@@ -44,6 +44,10 @@ struct Mesh {
   std::vector<uint32_t> indices;     // 3 per triangle, each < positions.size()
   int material = -1;                 // index into Scene::materials, -1: default material
   glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // object-space bounding box of positions
+  // Closed and wound outward (computed by validateScene, meshIsClosed): every face of a closed
+  // mesh has an inside behind it, so a shadow technique may drop the faces turned away from the
+  // light (the back faces' depths lie behind the front faces' along every ray from the light).
+  bool closed = false;
 };
 
 // A mesh placed in the world (the node hierarchy flattened).
@@ -152,5 +156,11 @@ bool addDefaultLighting(Scene& scene);
 // Area-weighted vertex normals (for meshes without normals).
 void computeNormals(Mesh& mesh);
 void computeBounds(Mesh& mesh);
+// Whether the mesh is a closed, consistently oriented surface wound counter-clockwise seen from
+// outside: with vertices welded by exact position (glTF splits vertices at seams), every edge of a
+// non-degenerate triangle is used once in each direction (so twice in all, by two triangles that
+// agree on its orientation), and the enclosed signed volume is positive. Degenerate triangles
+// (two welded vertices equal) are ignored; an empty mesh is not closed.
+bool meshIsClosed(const Mesh& mesh);
 
 }  // namespace penumbra::engine

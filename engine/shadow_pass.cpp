@@ -2,6 +2,9 @@
 
 #include <tbb/parallel_for.h>
 
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+
 #include "raster/timing.h"
 
 namespace penumbra::engine {
@@ -15,6 +18,7 @@ namespace {
 struct Casters {
   std::vector<glm::vec3> positions, open, close;
   std::vector<uint32_t> indices;
+  std::vector<uint8_t> closed;  // per triangle (shadows::Geometry::closed)
   size_t movingTriangles = 0;
 };
 
@@ -52,6 +56,9 @@ Casters flattenCasters(const Scene& scene, const shadows::RectLight& light,
     const uint32_t base = static_cast<uint32_t>(c.positions.size());
     for (const glm::vec3& p : m.positions) c.positions.push_back(glm::vec3(transform * glm::vec4(p, 1.0f)));
     for (uint32_t i : m.indices) c.indices.push_back(base + i);
+    // A mirroring transform turns the winding inside out: such an instance counts as open.
+    const bool closed = m.closed && glm::determinant(glm::mat3(transform)) > 0.0f;
+    c.closed.insert(c.closed.end(), m.indices.size() / 3, closed ? 1 : 0);
     if (!motion) continue;
     for (const glm::vec3& p : m.positions) {
       c.open.push_back(sweep ? glm::vec3(inst.transform * glm::vec4(p, 1.0f)) : c.positions[c.open.size()]);
@@ -86,7 +93,7 @@ raster::ImageFloat lightVisibility(raster::Rasterizer& raster, const Scene& scen
   st.msFlatten = raster::msSince(t0);
   if (!options.technique) return raster::ImageFloat(rec.width(), rec.height(), 1.0f);  // "none": unshadowed
   shadows::ShadowInputs in;
-  in.casters = {casters.positions, casters.indices};
+  in.casters = {casters.positions, casters.indices, casters.closed};
   in.castersOpen = casters.open;
   in.castersClose = casters.close;
   in.receivers = &rec;

@@ -214,6 +214,7 @@ CasterSet cullCasters(const RectLight& light, const LightRegion& region, const G
       continue;
     }
     out.indices.insert(out.indices.end(), tri, tri + 3);
+    if (!geometry.closed.empty()) out.closed.push_back(geometry.closed[t]);
     out.minDepth = std::min(out.minDepth, minDepthInRegion(region, hw, hh, p));
   }
   if (out.indices.empty() || out.minDepth == std::numeric_limits<float>::max()) out.minDepth = 0.0f;

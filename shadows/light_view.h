@@ -53,7 +53,12 @@ using ReceiverImage = raster::Image<Receiver>;
 struct Geometry {
   std::span<const glm::vec3> positions;
   std::span<const uint32_t> indices;
+  // Per triangle, 1 where it belongs to a closed mesh wound counter-clockwise seen from outside
+  // (engine Mesh::closed, in an instance that does not mirror it): its faces turned away from a
+  // viewer may be culled without changing the nearest surface along any ray. Empty: unknown, as 0.
+  std::span<const uint8_t> closed{};
   size_t triangles() const { return indices.size() / 3; }
+  bool isClosed(size_t t) const { return t < closed.size() && closed[t] != 0; }
 };
 
 inline constexpr float kMaxTan = 10.0f;
@@ -88,6 +93,7 @@ LightRegion fitRegion(const RectLight& light, const ReceiverImage& receivers);
 // (0 when one reaches the light itself: views then use their smallest near plane).
 struct CasterSet {
   std::vector<uint32_t> indices;
+  std::vector<uint8_t> closed;  // per kept triangle, Geometry::closed's flag (empty when it is)
   size_t trianglesIn = 0, trianglesCulled = 0;
   float minDepth = 0.0f;
   size_t trianglesKept() const { return indices.size() / 3; }

@@ -14,9 +14,12 @@ class Mvr final : public Technique {
   void prepare(ShadowContext& ctx, const ParamSet& params) override {
     bias_ = biasParams(params);
     size_ = params.integer("map_size");
-    samples_ = interleavedLightSamples(ctx.in.light, params.integer("views"), params.integer("interleave"));
+    samples_ = lightSamples(ctx.in.light, params.integer("views"), params.integer("interleave"), params.choice("samples"));
+    taps_ = params.choice("pcf") == "5" ? 5 : 1;
+    draws_ = casterDraws(ctx.casterGeometry(), casterCull(params));
     ctx.notes.push_back("mvr: " + std::to_string(samples_.points.size()) + " depth maps " + std::to_string(size_) +
-                        "^2 from stratified light points, rendered and looked up one at a time" +
+                        "^2 from " + params.choice("samples") + " light points, rendered and looked up one at a time, " +
+                        std::to_string(taps_) + (taps_ == 1 ? " tap" : " taps") + " per map" +
                         (samples_.k > 1 ? ", interleaved over " + std::to_string(samples_.k) + "x" +
                                               std::to_string(samples_.k) + " pixel blocks"
                                         : std::string()));
@@ -29,25 +32,26 @@ class Mvr final : public Technique {
     ctx.times.msEvaluate += msSince(t0);
     ShadowMap map;
     const float znear = ctx.nearPlane();
-    const glm::vec2 oneTap[1] = {glm::vec2(0.0f)};
+    const std::span<const glm::vec2> taps(kPcfTaps, static_cast<size_t>(taps_));
     for (size_t i = 0; i < samples_.points.size(); ++i) {
       const glm::vec2 lp = samples_.points[i];
       const auto t1 = Clock::now();
       map.view = makeLightView(ctx.in.light, ctx.region, lp, znear, size_, size_);
-      renderDepthMap(ctx, map);
+      renderDepthMap(ctx, map, draws_);
       ctx.times.msMaps += msSince(t1);
       const auto t2 = Clock::now();
-      tests.accumulate(ctx, map, lp, oneTap, samples_.k > 1 ? samples_.subset[i] : -1);
+      tests.accumulate(ctx, map, lp, taps, samples_.k > 1 ? samples_.subset[i] : -1);
       ctx.times.msEvaluate += msSince(t2);
     }
     const auto t3 = Clock::now();
-    tests.finish(ctx, 1, samples_, visibility);
+    tests.finish(ctx, taps_, samples_, visibility);
     ctx.times.msEvaluate += msSince(t3);
   }
 
  private:
   BiasParams bias_;
-  int size_ = 0;
+  int size_ = 0, taps_ = 1;
+  std::vector<CasterDraw> draws_;
   LightSampleSet samples_;
 };
 
@@ -58,10 +62,16 @@ TechniqueInfo mvrTechnique() {
   p.push_back({.name = "views", .kind = ParamKind::Int, .defaultValue = 64, .minValue = 1, .maxValue = 1024,
                .choices = {}, .help = "depth maps, from stratified points on the light"});
   p.push_back(interleaveParam());
+  p.push_back(samplePatternParam());
+  p.push_back(choiceParam("pcf", 0, {"1", "5"},
+                          "taps per map: the texel, or the texel and its 4 neighbours (the VWSS paper's MVR)"));
+  p.push_back(casterCullParam(2));  // closed meshes' back faces: the same maps, fewer triangles drawn
   return {.name = "mvr",
           .summary = "multi-view rasterization: N depth maps from stratified light points, averaged (the accurate baseline)",
           .params = std::move(p),
-          .benchSettings = {"views=8", "views=24", "", "views=128", "views=256"},
+          // The last two: the VWSS paper's MVR (5-tap PCF, Poisson-disk light samples), its maps counts.
+          .benchSettings = {"views=8", "views=24", "", "views=128", "views=256", "views=24,pcf=5,samples=poisson",
+                            "views=128,pcf=5,samples=poisson"},
           .isReference = false,
           .make = [] { return std::make_unique<Mvr>(); }};
 }

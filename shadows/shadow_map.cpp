@@ -1,21 +1,83 @@
 #include "shadows/shadow_map.h"
 
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <cstdio>
 
 namespace penumbra::shadows {
 
-void renderDepthMap(ShadowContext& ctx, ShadowMap& map) {
+ParamSpec casterCullParam(int defaultIndex) {
+  return choiceParam("cull", defaultIndex, {"none", "back", "auto"},
+                     "cull faces turned away from the light: none, back (every mesh: closed ones only), auto (the "
+                     "closed meshes')");
+}
+
+CasterCull casterCull(const ParamSet& params) {
+  const std::string& c = params.choice("cull");
+  return c == "back" ? CasterCull::Back : c == "auto" ? CasterCull::Auto : CasterCull::None;
+}
+
+std::vector<CasterDraw> casterDraws(const Geometry& casters, CasterCull cull, const RectLight* light) {
+  std::vector<CasterDraw> draws;
+  if (light && cull != CasterCull::None) {
+    glm::vec3 corners[4];
+    for (int c = 0; c < 4; ++c) corners[c] = light->point({(c & 1) ? 1.0f : 0.0f, (c & 2) ? 1.0f : 0.0f});
+    CasterDraw d;
+    for (size_t t = 0; t < casters.triangles(); ++t) {
+      const uint32_t* tri = &casters.indices[3 * t];
+      bool keep = cull == CasterCull::Auto && !casters.isClosed(t);
+      if (!keep) {  // counter-clockwise seen from outside: the normal points out
+        const glm::vec3 a = casters.positions[tri[0]];
+        const glm::vec3 n = glm::cross(casters.positions[tri[1]] - a, casters.positions[tri[2]] - a);
+        for (const glm::vec3& c : corners) keep = keep || glm::dot(n, c - a) > 0.0f;
+        keep = keep || !(glm::dot(n, n) > 0.0f);  // degenerate (or not finite): left to the rasterizer
+      }
+      if (!keep) continue;
+      d.indices.insert(d.indices.end(), tri, tri + 3);
+      d.closed.push_back(casters.isClosed(t) ? 1 : 0);
+    }
+    if (!d.indices.empty()) draws.push_back(std::move(d));
+    return draws;
+  }
+  if (cull != CasterCull::Auto) {
+    CasterDraw d;
+    d.indices.assign(casters.indices.begin(), casters.indices.end());
+    d.closed.assign(casters.closed.begin(), casters.closed.end());
+    d.cull = cull == CasterCull::Back ? raster::CullMode::Front : raster::CullMode::None;
+    if (!d.indices.empty()) draws.push_back(std::move(d));
+    return draws;
+  }
+  CasterDraw closed, open;
+  closed.cull = raster::CullMode::Front;
+  for (size_t t = 0; t < casters.triangles(); ++t) {
+    CasterDraw& d = casters.isClosed(t) ? closed : open;
+    d.indices.insert(d.indices.end(), casters.indices.begin() + 3 * static_cast<std::ptrdiff_t>(t),
+                     casters.indices.begin() + 3 * static_cast<std::ptrdiff_t>(t) + 3);
+    d.closed.push_back(casters.isClosed(t) ? 1 : 0);
+  }
+  for (CasterDraw* d : {&closed, &open})
+    if (!d->indices.empty()) draws.push_back(std::move(*d));
+  return draws;
+}
+
+void renderDepthMap(ShadowContext& ctx, ShadowMap& map, std::span<const CasterDraw> draws) {
   map.depth.resize(map.view.width, map.view.height, 0.0f);
   ctx.raster.clear(map.depth, 0.0f);
   const glm::vec3* pos = ctx.in.casters.positions.data();
-  raster::DrawDesc desc;
-  desc.vertexCount = static_cast<uint32_t>(ctx.in.casters.positions.size());
-  desc.indices = ctx.casters.indices;
-  desc.cull = raster::CullMode::None;
-  desc.depthFunc = raster::DepthFunc::Greater;
   const glm::mat4 m = map.view.viewProj;
-  ctx.mapPasses += ctx.raster.drawDepth(desc, map.depth, [&](uint32_t i) { return m * glm::vec4(pos[i], 1.0f); });
+  const auto draw = [&](std::span<const uint32_t> indices, raster::CullMode cull) {
+    raster::DrawDesc desc;
+    desc.vertexCount = static_cast<uint32_t>(ctx.in.casters.positions.size());
+    desc.indices = indices;
+    desc.cull = cull;
+    desc.depthFunc = raster::DepthFunc::Greater;
+    ctx.mapPasses += ctx.raster.drawDepth(desc, map.depth, [&](uint32_t i) { return m * glm::vec4(pos[i], 1.0f); });
+  };
+  if (draws.empty()) {
+    draw(ctx.casters.indices, raster::CullMode::None);
+  } else {
+    for (const CasterDraw& d : draws) draw(d.indices, d.cull);
+  }
   map.prepareLookup();
 }
 

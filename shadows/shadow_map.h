@@ -74,9 +74,36 @@ struct ShadowMap {
   float ax_ = 0, bx_ = 0, ay_ = 0, by_ = 0, maxX_ = 0, maxY_ = 0;
 };
 
-// Renders the context's kept casters into map.depth from map.view (a depth-only pass, no culling,
-// DepthFunc::Greater, cleared to 0) and adds the pass's stats to ctx.mapPasses.
-void renderDepthMap(ShadowContext& ctx, ShadowMap& map);
+// Back-face culling in the light's views (the "cull" parameter of mvr and vwss): none; back (every
+// face turned away from the light: right for closed meshes only, an open surface seen from behind
+// disappears); auto (the faces of closed meshes only, Geometry::closed; the paper's choice for its
+// closed characters).
+enum class CasterCull { None, Back, Auto };
+ParamSpec casterCullParam(int defaultIndex);
+CasterCull casterCull(const ParamSet& params);
+// A draw of the casters under a cull choice: its triangles (indices into the casters' positions,
+// with their closed flags) and the rasterizer's cull mode for them. The light's views mirror the
+// usual camera (right x up is the viewing direction, light_view.h): a face turned away from the
+// light is CullMode::Front there.
+struct CasterDraw {
+  std::vector<uint32_t> indices;
+  std::vector<uint8_t> closed;
+  raster::CullMode cull = raster::CullMode::None;
+  Geometry geometry(std::span<const glm::vec3> positions) const { return {positions, indices, closed}; }
+};
+// For views from points on the light, each culling in its own view: one draw (None, Back) or two
+// (Auto: the closed meshes' triangles culled, the rest not), empty ones dropped; submission order
+// kept within each.
+// For one view standing in for every point of `light` (view-warped shadows' source view): a face is
+// culled only when the whole light lies behind its plane (no light point sees its front), tested
+// per triangle here, and one draw without the rasterizer's culling takes the rest -- a face seen
+// from behind by the source view may still face a corner of the light.
+std::vector<CasterDraw> casterDraws(const Geometry& casters, CasterCull cull, const RectLight* light = nullptr);
+
+// Renders the context's kept casters into map.depth from map.view (a depth-only pass,
+// DepthFunc::Greater, cleared to 0; no culling, or the draws given, into the same target) and adds
+// the passes' stats to ctx.mapPasses.
+void renderDepthMap(ShadowContext& ctx, ShadowMap& map, std::span<const CasterDraw> draws = {});
 
 // A view from the light centre for techniques that look for occluders beside the receivers (a
 // receiver sees the light through the map region of its search area, which reaches past the

@@ -95,6 +95,9 @@ struct ShadowInputs {
 
 struct StageTimes {
   double msMaps = 0, msFilter = 0, msEvaluate = 0;
+  // Parts of msMaps, where a technique makes its maps in two steps (vwss: point generation, then
+  // clearing and splatting); 0 for the others.
+  double msPoints = 0, msSplat = 0;
   double prepare() const { return msMaps + msFilter; }
   double total() const { return msMaps + msFilter + msEvaluate; }
 };
@@ -108,7 +111,7 @@ struct ShadowContext {
   std::vector<std::string> notes;
   raster::PassStats mapPasses;  // summed over the technique's rasterization passes
 
-  Geometry casterGeometry() const { return {in.casters.positions, casters.indices}; }
+  Geometry casterGeometry() const { return {in.casters.positions, casters.indices, casters.closed}; }
   // Near plane for views of this light: a little in front of the nearest kept caster.
   float nearPlane() const;
 };

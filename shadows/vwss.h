@@ -34,24 +34,27 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
+#include "raster/splat.h"
+#include "shadows/shadow_map.h"
 #include "shadows/technique.h"
 
 namespace penumbra::shadows {
 
 TechniqueInfo vwssTechnique();
 
-// Point generation: rasterizes `casters` from `source` (faces turned away from the light culled
-// with cullBackFaces) and either the depth
-// test off (allLayers: every front-facing fragment becomes a point) or on (the nearest fragment of
-// each texel only: what warping a plain depth map would use). Points are world positions; the
-// payload of a point is its source texel y * width + x. Deterministic order: tiles in order, each
-// tile's fragments in submission order.
+// Point generation: rasterizes `casters` from `source` (faces that the whole light sees from behind
+// culled as `cull` says, shadow_map.h casterDraws) and either the depth test off (allLayers: every fragment becomes a point) or
+// on (the nearest fragment of each texel only: what warping a plain depth map would use). Points
+// are world positions; the payload of a point is its source texel y * width + x; with `surfels`,
+// each point's surfel axes too: its source pixel's footprint on its triangle's plane
+// (raster/splat.h). Deterministic order: tiles in order, each tile's fragments in submission order.
 struct LightPoints {
   std::vector<glm::vec3> points;
+  std::vector<raster::SurfelAxes> surfels;
   std::vector<uint32_t> payloads;
   raster::PassStats pass;
 };
 LightPoints generateLightPoints(raster::Rasterizer& raster, const Geometry& casters, const LightView& source,
-                                bool allLayers, bool cullBackFaces);
+                                const RectLight& light, bool allLayers, CasterCull cull, bool surfels = false);
 
 }  // namespace penumbra::shadows

@@ -2,6 +2,9 @@
 // with the normals, volumes and areas against their closed forms.
 #include "engine/shapes.h"
 
+#include "engine/builtin_scenes.h"
+#include "engine/scene.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -212,6 +215,34 @@ TEST(Shapes, TorusKnotIsClosedOutwardAndTheTubeHasItsVolume) {
     length += glm::length(curve(2 * std::numbers::pi * (i + 1) / 100000) - curve(2 * std::numbers::pi * i / 100000));
   const double exact = std::numbers::pi * 0.16 * 0.16 * length;
   EXPECT_NEAR(signedVolume(makeTorusKnot(2, 3, 1.0f, 0.42f, 0.16f, 1536, 48)), exact, 0.01 * exact);
+}
+
+// meshIsClosed (scene.h), which lets shadow techniques cull the back faces of closed meshes:
+// every closed shape, and the built-in scenes' curved meshes, are closed; a plane, a shape wound
+// inside out, one with a triangle missing and one with a face turned over are not.
+TEST(Shapes, MeshIsClosedOnlyForClosedOutwardSurfaces) {
+  const Mesh shapes[] = {makeBox(glm::vec3(1.0f, 2.0f, 0.5f)), makeSphere(0.7f, 12, 24), makeCylinder(0.4f, 1.5f, 20),
+                         makeTorus(1.0f, 0.3f, 16, 12), makeTorusKnot(2, 3, 1.0f, 0.42f, 0.16f, 96, 12)};
+  for (const Mesh& m : shapes) {
+    EXPECT_TRUE(meshIsClosed(m)) << m.name;
+    Mesh flipped = m;
+    for (size_t t = 0; t < flipped.indices.size(); t += 3) std::swap(flipped.indices[t + 1], flipped.indices[t + 2]);
+    EXPECT_FALSE(meshIsClosed(flipped)) << m.name << " inside out";
+    Mesh holed = m;
+    holed.indices.resize(holed.indices.size() - 3);
+    EXPECT_FALSE(meshIsClosed(holed)) << m.name << " with a triangle missing";
+    Mesh turned = m;
+    std::swap(turned.indices[1], turned.indices[2]);
+    EXPECT_FALSE(meshIsClosed(turned)) << m.name << " with a face turned over";
+  }
+  EXPECT_FALSE(meshIsClosed(makePlane(2.0f, 2.0f, 3)));
+  EXPECT_FALSE(meshIsClosed(Mesh{}));
+  for (const char* name : {"creature", "knot", "menagerie"}) {
+    const Scene s = makeBuiltinScene(name).value();
+    int closed = 0;
+    for (const Mesh& m : s.meshes) closed += m.closed ? 1 : 0;
+    EXPECT_EQ(closed, static_cast<int>(s.meshes.size()) - 1) << name << ": all but the ground";
+  }
 }
 
 TEST(Shapes, PlaneFacesUpWithOneBoundaryLoop) {

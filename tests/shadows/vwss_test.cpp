@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <span>
 
 #include "shadows/area_light.h"
 #include "shadows/technique.h"
@@ -57,23 +58,23 @@ TEST(Vwss, PointGenerationEmitsEveryFragmentOfEveryLayer) {
   addPlate(pos, idx, -50, 50, -50, 50, 1.0f);
   raster::Rasterizer raster({.threads = 2});
   const Geometry g{pos, idx};
-  const LightPoints all = generateLightPoints(raster, g, source, true, false);
+  const LightPoints all = generateLightPoints(raster, g, source, light, true, CasterCull::None);
   EXPECT_EQ(all.points.size(), 2u * 37u * 29u);
-  const LightPoints nearest = generateLightPoints(raster, g, source, false, false);
+  const LightPoints nearest = generateLightPoints(raster, g, source, light, false, CasterCull::None);
   ASSERT_EQ(nearest.points.size(), 37u * 29u);
   for (const glm::vec3& p : nearest.points) EXPECT_NEAR(p.y, 2.0f, 1e-4f);  // the upper plate only
   // Both plates face up, towards the light: culling keeps them. Reversed, they are culled.
-  EXPECT_EQ(generateLightPoints(raster, g, source, true, true).points.size(), 2u * 37u * 29u);
+  EXPECT_EQ(generateLightPoints(raster, g, source, light, true, CasterCull::Back).points.size(), 2u * 37u * 29u);
   std::vector<uint32_t> flipped = idx;
   for (size_t t = 0; t < flipped.size(); t += 3) std::swap(flipped[t + 1], flipped[t + 2]);
-  EXPECT_EQ(generateLightPoints(raster, {pos, flipped}, source, true, true).points.size(), 0u);
+  EXPECT_EQ(generateLightPoints(raster, {pos, flipped}, source, light, true, CasterCull::Back).points.size(), 0u);
   // A payload is the point's source texel; every texel appears once per layer.
   std::vector<int> seen(37 * 29, 0);
   for (uint32_t p : all.payloads) ++seen[p];
   for (int s : seen) EXPECT_EQ(s, 2);
   // Same points in the same order at another thread count.
   raster::Rasterizer one({.threads = 1});
-  const LightPoints again = generateLightPoints(one, g, source, true, false);
+  const LightPoints again = generateLightPoints(one, g, source, light, true, CasterCull::None);
   ASSERT_EQ(again.points.size(), all.points.size());
   for (size_t i = 0; i < all.points.size(); ++i) {
     EXPECT_EQ(again.points[i], all.points[i]);
@@ -130,6 +131,71 @@ TEST(Vwss, NoLeaksWhereNaiveWarpingLeaks) {
   EXPECT_GT(meanNearest, 2.0 * meanVwss);
   EXPECT_GT(dOnLight, 0.2);      // the occluder beside the centre view is missing
   EXPECT_GT(meanOnLight, 2.0 * meanVwss);
+}
+
+// A closed box, wound counter-clockwise seen from outside (12 triangles).
+void addBox(std::vector<glm::vec3>& pos, std::vector<uint32_t>& idx, glm::vec3 lo, glm::vec3 hi) {
+  const auto b = static_cast<uint32_t>(pos.size());
+  for (int c = 0; c < 8; ++c) pos.push_back({(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z});
+  // Faces as corner quads (a, b, c, d) counter-clockwise from outside.
+  const uint32_t faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& f : faces) idx.insert(idx.end(), {b + f[0], b + f[1], b + f[2], b + f[0], b + f[2], b + f[3]});
+}
+
+// cull=auto drops the faces of closed meshes that the whole light sees from behind, and nothing
+// else: a closed box under the light keeps its top and the sides some light corner faces, loses its
+// bottom and the side every corner sees from behind; a plate turned away from the light stays
+// (open), which cull=back drops. V moves little on average: along every ray from the light a kept
+// face of the box comes first, but where the source view sees a kept face at a grazing angle its
+// surfels' footprints are longer than the cap (8 source pixels) and leave gaps that the dropped faces
+// behind it no longer fill (the price of halving the points; docs/techniques/vwss.md).
+TEST(Vwss, CullAutoDropsTheFacesClosedMeshesTurnAwayFromTheWholeLight) {
+  std::vector<glm::vec3> pos;
+  std::vector<uint32_t> idx;
+  addBox(pos, idx, {-0.8f, 0.5f, -0.6f}, {0.2f, 1.6f, 0.4f});
+  const size_t boxTriangles = idx.size() / 3;
+  addPlate(pos, idx, 0.4f, 1.4f, -0.5f, 0.5f, 2.0f);
+  for (size_t t = 3 * boxTriangles; t < idx.size(); t += 3) std::swap(idx[t + 1], idx[t + 2]);  // facing down
+  std::vector<uint8_t> closed(idx.size() / 3, 0);
+  std::fill(closed.begin(), closed.begin() + static_cast<std::ptrdiff_t>(boxTriangles), 1);
+  RectLight light;
+  makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.5f, 1.5f, glm::vec3(1), 1, light);
+  const Geometry g{pos, idx, closed};
+  // Which triangles each choice keeps (casterDraws with the light, as the source view draws them).
+  const auto kept = [&](CasterCull c) {
+    const std::vector<CasterDraw> d = casterDraws(g, c, &light);
+    return d.empty() ? size_t{0} : d[0].indices.size() / 3;
+  };
+  const size_t plateTriangles = idx.size() / 3 - boxTriangles;
+  EXPECT_EQ(kept(CasterCull::None), idx.size() / 3);
+  EXPECT_EQ(kept(CasterCull::Auto), 8u + plateTriangles);  // top, +x, -z, +z of the box
+  EXPECT_EQ(kept(CasterCull::Back), 8u);                   // and not the plate
+  // The points: the box loses its bottom (as many points as its top, seen from above) and more.
+  LightRegion region;
+  region.empty = false;
+  region.lo = {-2.0f, -2.0f, 2.0f};
+  region.hi = {2.0f, 2.0f, 4.0f};
+  const LightView source = makeLightView(light, region, {0, 0}, 0.5f, 200, 200);
+  raster::Rasterizer raster({.threads = 2});
+  const size_t none = generateLightPoints(raster, g, source, light, true, CasterCull::None).points.size();
+  const size_t autoCull = generateLightPoints(raster, g, source, light, true, CasterCull::Auto).points.size();
+  const size_t back = generateLightPoints(raster, g, source, light, true, CasterCull::Back).points.size();
+  std::printf("points: none %zu, auto %zu, back %zu\n", none, autoCull, back);
+  EXPECT_LT(autoCull, none * 5 / 6);
+  EXPECT_LT(back, autoCull);
+  // V with and without culling, on ground receivers.
+  ShadowInputs in;
+  in.casters = g;
+  ReceiverImage rec = groundReceivers(64, 64, 2.5f);
+  in.receivers = &rec;
+  in.light = light;
+  const raster::ImageFloat vNone = run("vwss", in, 2, "views=32,map_size=256,cull=none");
+  const raster::ImageFloat vAuto = run("vwss", in, 2, "views=32,map_size=256,cull=auto");
+  double mean = 0;
+  const double worst = maxDiff(vAuto, vNone, &mean);
+  std::printf("V, cull=auto against none: max %.4f, mean %.5f\n", worst, mean);
+  EXPECT_LT(worst, 0.3);
+  EXPECT_LT(mean, 0.003);
 }
 
 TEST(Vwss, VariantsAndTraversalsGiveTheSameBits) {
