@@ -30,15 +30,16 @@ std::string safeName(std::string s) {
 
 struct Timed {
   engine::Frame frame;
-  double msMaps = 0, msFilter = 0, msEvaluate = 0, msPrepare = 0, msTotal = 0;
+  double msMaps = 0, msFilter = 0, msEvaluate = 0, msPrepare = 0, msTotal = 0, msPoints = 0, msSplat = 0;
+  double msMapsMin = 0, msMapsMax = 0, msEvaluateMin = 0, msEvaluateMax = 0, msTotalMin = 0, msTotalMax = 0;
 };
 
-// Renders `runs` times; stage times are medians, the frame is the last run's (they are identical:
-// rendering is deterministic).
+// Renders `runs` times; stage times are medians (and the fastest and slowest run), the frame is the
+// last run's (they are identical: rendering is deterministic).
 Timed timedRender(engine::Renderer& renderer, const engine::Scene& scene, const engine::RenderOptions& options,
                   int runs) {
   const engine::ResolvedOptions resolved = resolveOrFail(options);
-  std::vector<double> maps, filter, eval, prep, total;
+  std::vector<double> maps, filter, eval, prep, total, points, splat;
   Timed t;
   for (int r = 0; r < runs; ++r) {
     t.frame = renderer.render(scene, resolved);
@@ -48,12 +49,22 @@ Timed timedRender(engine::Renderer& renderer, const engine::Scene& scene, const 
     eval.push_back(s.times.msEvaluate);
     prep.push_back(s.times.prepare());
     total.push_back(s.times.total());
+    points.push_back(s.times.msPoints);
+    splat.push_back(s.times.msSplat);
   }
   t.msMaps = raster::median(maps);
   t.msFilter = raster::median(filter);
   t.msEvaluate = raster::median(eval);
   t.msPrepare = raster::median(prep);
   t.msTotal = raster::median(total);
+  t.msPoints = raster::median(points);
+  t.msSplat = raster::median(splat);
+  const auto [mapsLo, mapsHi] = std::minmax_element(maps.begin(), maps.end());
+  const auto [evalLo, evalHi] = std::minmax_element(eval.begin(), eval.end());
+  const auto [totalLo, totalHi] = std::minmax_element(total.begin(), total.end());
+  t.msMapsMin = *mapsLo, t.msMapsMax = *mapsHi;
+  t.msEvaluateMin = *evalLo, t.msEvaluateMax = *evalHi;
+  t.msTotalMin = *totalLo, t.msTotalMax = *totalHi;
   return t;
 }
 
@@ -73,6 +84,10 @@ engine::ShadowBenchRow measuredRow(const Timed& t, const engine::Frame& ref, con
   row.msPrepare = t.msPrepare;
   row.msEvaluate = t.msEvaluate;
   row.msTotal = t.msTotal;
+  row.msMapsMin = t.msMapsMin, row.msMapsMax = t.msMapsMax;
+  row.msEvaluateMin = t.msEvaluateMin, row.msEvaluateMax = t.msEvaluateMax;
+  row.msTotalMin = t.msTotalMin, row.msTotalMax = t.msTotalMax;
+  row.msPoints = t.msPoints, row.msSplat = t.msSplat;
   const engine::VisibilityError e = engine::compareVisibility(vis, refVis, mask);
   row.rmseV = e.rmse;
   row.biasV = e.bias;
@@ -85,16 +100,26 @@ engine::ShadowBenchRow measuredRow(const Timed& t, const engine::Frame& ref, con
   return row;
 }
 
+// "  points X splat Y" where the technique makes its maps in those two steps.
+std::string splitLine(const engine::ShadowBenchRow& row) {
+  if (row.msPoints == 0 && row.msSplat == 0) return "";
+  char buf[80];
+  std::snprintf(buf, sizeof buf, "  points %.2f splat %.2f", row.msPoints, row.msSplat);
+  return buf;
+}
+
 void printRow(const engine::ShadowBenchRow& row, bool json) {
   if (json) {
     std::printf("%s\n", engine::toJson(row).c_str());
   } else {
     std::printf("%-9s %-6s %-40s maps %8.2f filter %7.2f eval %8.2f total %8.2f ms  rmse_v %.4f bias %+.4f max %.3f "
-                ">0.05 %5.1f%%  ground %.4f %+.4f  object %.4f %+.4f  contact %.4f %+.4f  rmse_img %.4f\n",
+                ">0.05 %5.1f%%  ground %.4f %+.4f  object %.4f %+.4f  contact %.4f %+.4f  rmse_img %.4f  "
+                "runs: maps %.2f-%.2f eval %.2f-%.2f total %.2f-%.2f%s\n",
                 row.scene.c_str(), row.technique.c_str(), row.params.empty() ? "(defaults)" : row.params.c_str(),
                 row.msMaps, row.msFilter, row.msEvaluate, row.msTotal, row.rmseV, row.biasV, row.maxErrV,
                 100.0 * row.fracErrGt005, row.rmseGround, row.biasGround, row.rmseObject, row.biasObject, row.rmseContact,
-                row.biasContact, row.rmseImage);
+                row.biasContact, row.rmseImage, row.msMapsMin, row.msMapsMax, row.msEvaluateMin, row.msEvaluateMax,
+                row.msTotalMin, row.msTotalMax, splitLine(row).c_str());
   }
   std::fflush(stdout);
 }
@@ -131,12 +156,18 @@ int runBenchShadows(const BenchShadowsArgs& a) {
   // Validate everything before any work.
   requireBenchBasics(a.width, a.height, a.runs, a.threads);
   require(kGtSamplesOption, a.gtSamples);
+  if (!(a.lightScale > 0.0 && a.lightScale <= 64.0))
+    fail("option --light-scale", "must be in (0, 64], got " + std::to_string(a.lightScale));
   std::vector<std::string> sceneNames = a.scenes;
   if (sceneNames.empty()) sceneNames = {"contact", "fusion", "thin", "complex", "biglight", "creature", "knot", "menagerie"};
   std::vector<std::pair<std::string, engine::Scene>> scenes;
   for (const std::string& name : sceneNames) {
     scenes.push_back(loadSceneArgument(name, {.allowOutsidePaths = a.allowOutsidePaths}));
     if (scenes.back().second.areaLights.empty()) fail(name, "the scene has no area light to benchmark");
+    for (shadows::RectLight& l : scenes.back().second.areaLights) {
+      l.width *= static_cast<float>(a.lightScale);
+      l.height *= static_cast<float>(a.lightScale);
+    }
   }
   // (technique, parameter list) pairs: the registry's bench settings, or the ones asked for.
   std::vector<std::pair<const shadows::TechniqueInfo*, std::string>> runs;

@@ -73,6 +73,7 @@ struct BenchShadowsArgs {
   std::vector<std::string> techniques;  // default: every technique of the registry but the reference
   std::vector<std::string> settings;    // extra "technique:name=value,..." settings
   int width = 480, height = 270, runs = 3, gtSamples = 1024, threads = 0;
+  double lightScale = 1.0;  // every area light's width and height times this, about its centre; (0, 64]
   std::string out = "out/bench-shadows", cache;
   bool json = false;
   bool allowOutsidePaths = false;

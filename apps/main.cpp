@@ -159,6 +159,9 @@ int main(int argc, char** argv) {
   bs->add_option("--gt-samples", benchShadows.gtSamples,
                  "Ground-truth rays per receiver " + kGtSamplesOption.range() + " (default 1024)");
   bs->add_option("--threads", benchShadows.threads, "Worker threads " + engine::kThreadsOption.range() + " (0 = all cores)");
+  bs->add_option("--light-scale", benchShadows.lightScale,
+                 "Every area light's width and height times this, about its centre, (0, 64] (default 1: the "
+                 "growing-light study, scripts/growing-light.sh)");
   bs->add_option("--out", benchShadows.out, "Report folder (default out/bench-shadows)");
   bs->add_option("--cache", benchShadows.cache, "Ground-truth cache folder (default <out>/gt-cache)");
   bs->add_flag("--json", benchShadows.json, "One JSON object per (scene, technique, setting) on stdout");

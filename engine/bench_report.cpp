@@ -31,7 +31,11 @@ std::vector<std::pair<const char*, double>> numericColumns(const ShadowBenchRow&
           {"frac_err_gt_005", r.fracErrGt005}, {"rmse_v_ground", r.rmseGround},
           {"bias_v_ground", r.biasGround}, {"rmse_v_object", r.rmseObject},
           {"bias_v_object", r.biasObject}, {"rmse_v_contact", r.rmseContact},
-          {"bias_v_contact", r.biasContact}, {"rmse_image", r.rmseImage}};
+          {"bias_v_contact", r.biasContact}, {"rmse_image", r.rmseImage},
+          {"ms_maps_min", r.msMapsMin},     {"ms_maps_max", r.msMapsMax},
+          {"ms_evaluate_min", r.msEvaluateMin}, {"ms_evaluate_max", r.msEvaluateMax},
+          {"ms_total_min", r.msTotalMin},   {"ms_total_max", r.msTotalMax},
+          {"ms_points", r.msPoints},       {"ms_splat", r.msSplat}};
 }
 
 Json rowJson(const ShadowBenchRow& r) {
@@ -122,6 +126,15 @@ std::string sceneSection(size_t index, const ShadowBenchScene& scene, const std:
     s += "</figcaption></figure>\n";
   }
 
+  // A median's spread over the runs, and the two parts of a technique's maps (points, splat).
+  const auto spread = [](double lo, double hi) {
+    return lo == 0 && hi == 0 ? std::string() : "<br><small>" + fmtMs(lo) + "&ndash;" + fmtMs(hi) + "</small>";
+  };
+  const auto parts = [](const ShadowBenchRow& r) {
+    return r.msPoints == 0 && r.msSplat == 0
+               ? std::string()
+               : "<br><small>points " + fmtMs(r.msPoints) + ", splat " + fmtMs(r.msSplat) + "</small>";
+  };
   s += "<table>\n<tr><th>technique</th><th>params</th><th>views</th><th>maps ms</th><th>filter ms</th>"
        "<th>prepare ms</th><th>evaluate ms</th><th>total ms</th><th>RMSE V</th><th>bias V</th><th>max |err| V</th>"
        "<th>|err| &gt; 0.05</th><th>ground RMSE / bias</th><th>object RMSE / bias</th><th>contact RMSE / bias</th>"
@@ -131,16 +144,17 @@ std::string sceneSection(size_t index, const ShadowBenchScene& scene, const std:
     auto num = [](const std::string& v) { return "<td class=\"num\">" + v + "</td>"; };
     s += front[i] ? "<tr class=\"pareto\">" : "<tr>";
     s += "<td>" + escapeXml(r.technique) + "</td><td>" + escapeXml(r.params) + "</td>" +
-         num(r.views > 0 ? std::to_string(r.views) : "&ndash;") + num(fmtMs(r.msMaps)) +
-         num(fmtMs(r.msFilter)) + num(fmtMs(r.msPrepare)) + num(fmtMs(r.msEvaluate)) + num(fmtMs(r.msTotal)) +
+         num(r.views > 0 ? std::to_string(r.views) : "&ndash;") + num(fmtMs(r.msMaps) + spread(r.msMapsMin, r.msMapsMax) + parts(r)) +
+         num(fmtMs(r.msFilter)) + num(fmtMs(r.msPrepare)) + num(fmtMs(r.msEvaluate) + spread(r.msEvaluateMin, r.msEvaluateMax)) +
+         num(fmtMs(r.msTotal) + spread(r.msTotalMin, r.msTotalMax)) +
          num(fmtErr(r.rmseV)) + num(fmtBias(r.biasV)) + num(fmtErr(r.maxErrV)) + num(fmtPercent(r.fracErrGt005)) +
          num(fmtErr(r.rmseGround) + " / " + fmtBias(r.biasGround)) +
          num(fmtErr(r.rmseObject) + " / " + fmtBias(r.biasObject)) +
          num(fmtErr(r.rmseContact) + " / " + fmtBias(r.biasContact)) + num(fmtErr(r.rmseImage)) + "</tr>\n";
   }
-  s += "</table>\n<p class=\"note\">Highlighted rows are Pareto-optimal: no other row here is both as fast "
-       "and as "
-       "accurate and better in one of the two.</p>\n";
+  s += "</table>\n<p class=\"note\">Times are medians over the runs, with the fastest and slowest run under "
+       "them. Highlighted rows are Pareto-optimal: no other row here is both as fast and as accurate and better in "
+       "one of the two.</p>\n";
   s += "<p><img class=\"plot\" src=\"" + urlAttr(plotFile) + "\" alt=\"" +
        escapeXml("error against time, " + scene.name) + "\"></p>\n";
 

@@ -32,10 +32,15 @@ namespace penumbra::engine {
 struct ShadowBenchRow {
   std::string scene, technique, params;  // params: "name=value,..." as the technique was run
   int views = 0;                         // light views rendered; 0 when not applicable
-  double msMaps = 0, msFilter = 0, msPrepare = 0, msEvaluate = 0, msTotal = 0;
+  double msMaps = 0, msFilter = 0, msPrepare = 0, msEvaluate = 0, msTotal = 0;  // medians over runs
   double rmseV = 0, biasV = 0, maxErrV = 0, fracErrGt005 = 0, rmseImage = 0;
   // By receiver class (metrics.h): ground, object, contact.
   double rmseGround = 0, biasGround = 0, rmseObject = 0, biasObject = 0, rmseContact = 0, biasContact = 0;
+  // The spread over runs (fastest and slowest run) of maps, evaluate and total, and the medians of
+  // the two parts of maps where a technique has them (shadows::StageTimes: vwss's point generation
+  // and splatting; 0 otherwise).
+  double msMapsMin = 0, msMapsMax = 0, msEvaluateMin = 0, msEvaluateMax = 0, msTotalMin = 0, msTotalMax = 0;
+  double msPoints = 0, msSplat = 0;
   std::string image, heatMap;  // file names relative to the report directory, "" if none
 };
 
@@ -48,8 +53,9 @@ struct ShadowBenchScene {
 
 // One line of JSON (no newline) with exactly the keys scene, technique, params, ms_maps, ms_filter,
 // ms_prepare, ms_evaluate, ms_total, rmse_v, bias_v, max_err_v, frac_err_gt_005, rmse_v_ground,
-// bias_v_ground, rmse_v_object, bias_v_object, rmse_v_contact, bias_v_contact, rmse_image, in that
-// order.
+// bias_v_ground, rmse_v_object, bias_v_object, rmse_v_contact, bias_v_contact, rmse_image,
+// ms_maps_min, ms_maps_max, ms_evaluate_min, ms_evaluate_max, ms_total_min, ms_total_max, ms_points,
+// ms_splat, in that order.
 // Numbers are written in the shortest form that reads back to the same double; a non-finite
 // number (which JSON cannot hold) is written as null.
 std::string toJson(const ShadowBenchRow& row);

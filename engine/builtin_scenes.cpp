@@ -250,6 +250,16 @@ Scene makeCreature() {
   return s;
 }
 
+// The growing-light study of the VWSS paper (Marrs et al. 2018, Fig. 8: a character under a light
+// that grows to 64 times its area): the creature under a light straight above it, high enough that
+// `bench shadows --light-scale 8` keeps it clear of everything (scripts/growing-light.sh).
+Scene makeGrowing() {
+  Scene s = shadowStage("growing", {2.6f, 2.8f, 5.2f}, {0.0f, 0.8f, 0.0f});
+  addObject(s, "creature", creature(130), addMaterial(s, "clay", {0.74f, 0.66f, 0.56f}), at({0.0f, 0.0f, 0.0f}, 20.0f));
+  addAreaLight(s, {-0.4f, 4.2f, 0.3f}, {0.0f, -1.0f, 0.0f}, 1.0f, 0.8f, glm::vec3(1.0f), 30.0f);
+  return s;
+}
+
 Scene makeKnot() {
   Scene s = shadowStage("knot", {0.8f, 3.6f, 5.6f}, {0.3f, 0.6f, 0.0f});
   const int m = addMaterial(s, "stone", {0.7f, 0.68f, 0.64f});
@@ -401,6 +411,7 @@ std::vector<BuiltinInfo> builtinScenes() {
           {"creature", "curved meshes: a 202,800-triangle creature with legs, thin ears and a tail standing on the ground"},
           {"knot", "curved meshes: a 147,456-triangle trefoil knot lying on the ground and a 120,000-triangle folded blob"},
           {"menagerie", "curved meshes: nine creatures, knots and folded blobs on one ground (instances of three meshes, 369,792 triangles)"},
+          {"growing", "the creature under an overhead light, for the growing-light study (bench shadows --light-scale)"},
           {"motion", "motion blur: a box, a ball and a wheel moving fast past static columns and a rock"},
           {"defocus", "depth of field: a row of objects receding from the camera, focus on the middle one"},
           {"motion-defocus", "both: the defocus row with the moving objects of 'motion' (5D)"},
@@ -419,6 +430,7 @@ Result<Scene> makeBuiltinScene(const std::string& name) {
   else if (name == "creature") s = makeCreature();
   else if (name == "knot") s = makeKnot();
   else if (name == "menagerie") s = makeMenagerie();
+  else if (name == "growing") s = makeGrowing();
   else if (name == "motion") s = makeMotion();
   else if (name == "defocus") s = makeDefocus();
   else if (name == "motion-defocus") s = makeMotionDefocus();

@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
 """Writes the measured tables of `penumbra bench shadows` into the docs.
 
-Usage: scripts/shadow-bench-tables.py RESULTS_JSON [BEFORE_JSON]
+Usage: scripts/shadow-bench-tables.py RESULTS_JSON [BEFORE_JSON] [--only NAME,NAME...]
 
 Reads the report's results.json and replaces, in docs/techniques/*.md and docs/performance.md,
 the text between <!-- bench:NAME --> and <!-- /bench --> markers: NAME is a technique (its rows
 on every scene and setting), "overview" (RMSE of V and total time of each technique's defaults
-per scene), "vwssmvr" (VWSS against MVR at 24 and 128 maps), "curved" (each technique's
+per scene), "vwssmvr" (VWSS against MVR at 24 and 128 maps, defaults), "vwsspaper" (the same in the
+VWSS paper's configuration), "curved" (each technique's
 defaults on the curved-mesh scenes: ground, object and contact RMSE and bias, BEFORE_JSON's
 figures next to RESULTS_JSON's when given) or "curvedNAME" (the same for technique NAME alone).
+--only limits the update to the markers named (after a bench of some techniques only).
 """
 import json
 import pathlib
@@ -80,36 +82,59 @@ def overview_table(rows):
     return "\n".join(out)
 
 
-def vwss_table(rows):
-    """VWSS against MVR with the same light samples and map size, at 24 and 128 maps."""
-    out = ["| scene | maps | MVR maps ms | VWSS maps ms | maps speed-up | MVR total ms | VWSS total ms | "
-           "MVR RMSE V | VWSS RMSE V | RMSE ratio |",
-           "|---|---|---|---|---|---|---|---|---|---|"]
+def params_of(r):
+    """A row's parameters as a dict (the report writes them in the technique's parameter order)."""
+    return dict(kv.split("=", 1) for kv in r["params"].split(",") if kv)
+
+
+def find(rows, scene, technique, params):
+    want = {k: str(v) for k, v in params.items()}
+    match = [r for r in rows if r["scene"] == scene and r["technique"] == technique and params_of(r) == want]
+    return match[0] if match else None
+
+
+def vwss_table(rows, paper):
+    """VWSS against MVR with the same light samples and map size, at 24 and 128 maps: the defaults
+    (surfels, 1 tap, Hammersley points), or with paper=True the VWSS paper's configuration for both
+    (its point splat, 5-tap PCF, Poisson-disk light samples)."""
+    extra_v = {"splat": "point", "pcf": "5", "samples": "poisson"} if paper else {}
+    extra_m = {"pcf": "5", "samples": "poisson"} if paper else {}
+    out = ["| scene | maps | MVR maps ms | VWSS maps ms (points + splat) | maps speed-up | MVR total ms | "
+           "VWSS total ms | total speed-up | MVR RMSE V | VWSS RMSE V | RMSE ratio |",
+           "|---|---|---|---|---|---|---|---|---|---|---|"]
     scenes = []
     for r in rows:
         if r["scene"] not in scenes:
             scenes.append(r["scene"])
     for s in scenes:
         for views in (24, 128):
-            m = [r for r in rows if r["scene"] == s and r["technique"] == "mvr" and r["params"] == f"views={views}"]
-            v = [r for r in rows if r["scene"] == s and r["technique"] == "vwss" and r["params"] == f"views={views}"]
+            m = find(rows, s, "mvr", {"views": views, **extra_m})
+            v = find(rows, s, "vwss", {"views": views, **extra_v})
             if not m or not v:
                 continue
-            m, v = m[0], v[0]
-            out.append(f"| {s} | {views} | {m['ms_maps']:.1f} | {v['ms_maps']:.1f} | {m['ms_maps'] / v['ms_maps']:.2f}x | "
-                       f"{m['ms_total']:.1f} | {v['ms_total']:.1f} | {m['rmse_v']:.4f} | {v['rmse_v']:.4f} | "
+            spread = lambda r: f"<br><small>{r['ms_maps_min']:.1f}–{r['ms_maps_max']:.1f}</small>" if "ms_maps_min" in r else ""
+            parts = f" ({v.get('ms_points', 0):.1f} + {v.get('ms_splat', 0):.1f})" if v.get("ms_points") else ""
+            out.append(f"| {s} | {views} | {m['ms_maps']:.1f}{spread(m)} | {v['ms_maps']:.1f}{parts}{spread(v)} | "
+                       f"{m['ms_maps'] / v['ms_maps']:.1f}x | {m['ms_total']:.1f} | {v['ms_total']:.1f} | "
+                       f"{m['ms_total'] / v['ms_total']:.1f}x | {m['rmse_v']:.4f} | {v['rmse_v']:.4f} | "
                        f"{v['rmse_v'] / m['rmse_v']:.2f} |")
     return "\n".join(out)
 
 
 def main():
-    if len(sys.argv) not in (2, 3):
+    args = sys.argv[1:]
+    only = None
+    if "--only" in args:  # --only NAME,NAME: just those markers (a bench of some techniques only)
+        i = args.index("--only")
+        only = set(args[i + 1].split(","))
+        del args[i:i + 2]
+    if len(args) not in (1, 2):
         sys.exit(__doc__)
-    data = json.loads(pathlib.Path(sys.argv[1]).read_text())
+    data = json.loads(pathlib.Path(args[0]).read_text())
     rows = data["rows"] if isinstance(data, dict) else data
     before = None
-    if len(sys.argv) == 3:
-        b = json.loads(pathlib.Path(sys.argv[2]).read_text())
+    if len(args) == 2:
+        b = json.loads(pathlib.Path(args[1]).read_text())
         before = b["rows"] if isinstance(b, dict) else b
     root = pathlib.Path(__file__).resolve().parent.parent
     pattern = re.compile(r"(<!-- bench:([a-z0-9]+) -->\n).*?(<!-- /bench -->)", re.S)
@@ -118,10 +143,14 @@ def main():
 
         def repl(m):
             name = m.group(2)
+            if only is not None and name not in only:
+                return m.group(0)
             if name == "overview":
                 table = overview_table(rows)
             elif name == "vwssmvr":
-                table = vwss_table(rows)
+                table = vwss_table(rows, paper=False)
+            elif name == "vwsspaper":
+                table = vwss_table(rows, paper=True)
             elif name == "curved":
                 table = curved_table(rows, before)
             elif name.startswith("curved"):

@@ -371,6 +371,9 @@ TEST_F(Cli, XyzMagnitudesAreJudgedAsFloats) {
 
 TEST_F(Cli, UnknownBenchSceneNamesTheOption) {
   expectBadInput("bench shadows --scene nosuch --out " + path("b"), "option --scene", path("o.png"));
+  for (const char* scale : {"0", "-1", "65", "nan"})
+    expectBadInput("bench shadows --light-scale " + std::string(scale) + " --out " + path("b"), "--light-scale",
+                   path("o.png"));
   const CliResult r = run("bench shadows --scene nosuch --out " + path("b"));
   EXPECT_EQ(r.out.find("--builtin"), std::string::npos) << r.out;
 }

@@ -28,7 +28,8 @@ const std::vector<std::string> kKeys = {
     "scene",         "technique",     "params",        "ms_maps",        "ms_filter",      "ms_prepare",
     "ms_evaluate",   "ms_total",      "rmse_v",        "bias_v",         "max_err_v",      "frac_err_gt_005",
     "rmse_v_ground", "bias_v_ground", "rmse_v_object", "bias_v_object",  "rmse_v_contact", "bias_v_contact",
-    "rmse_image"};
+    "rmse_image",    "ms_maps_min",   "ms_maps_max",   "ms_evaluate_min", "ms_evaluate_max", "ms_total_min",
+    "ms_total_max",  "ms_points",     "ms_splat"};
 
 ShadowBenchRow row(const std::string& scene, const std::string& technique, const std::string& params,
                    double ms, double rmse) {
@@ -176,6 +177,8 @@ TEST(BenchReport, JsonRoundTripsWithExactKeys) {
   r.maxErrV = 123456789.123456789;
   r.views = 4;
   r.image = "img.png";
+  r.msMapsMin = 0.25, r.msMapsMax = 1.0 / 7, r.msEvaluateMin = 2.5, r.msEvaluateMax = 3.5;
+  r.msTotalMin = 1e-9, r.msTotalMax = 1e9, r.msPoints = 0.125, r.msSplat = 1.0 / 9;
   const std::string text = toJson(r);
   EXPECT_EQ(text.find('\n'), std::string::npos);
   const Json j = Json::parse(text);
@@ -187,7 +190,8 @@ TEST(BenchReport, JsonRoundTripsWithExactKeys) {
   EXPECT_EQ(j["params"], r.params);
   const double values[] = {r.msMaps,      r.msFilter,   r.msPrepare,   r.msEvaluate,  r.msTotal,     r.rmseV,
                            r.biasV,       r.maxErrV,    r.fracErrGt005, r.rmseGround, r.biasGround, r.rmseObject,
-                           r.biasObject,  r.rmseContact, r.biasContact, r.rmseImage};
+                           r.biasObject,  r.rmseContact, r.biasContact, r.rmseImage,  r.msMapsMin,  r.msMapsMax,
+                           r.msEvaluateMin, r.msEvaluateMax, r.msTotalMin, r.msTotalMax, r.msPoints, r.msSplat};
   ASSERT_EQ(std::size(values) + 3, kKeys.size());
   for (size_t k = 0; k < std::size(values); ++k) {
     ASSERT_TRUE(j[kKeys[3 + k]].is_number()) << kKeys[3 + k];
