@@ -107,27 +107,42 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 using namespace splat_detail;
 
-// Projects points [0, n) (xyz: 3 n floats, n <= kBatch) into view v: offsets[i] = y * stride + x
-// of the pixel and depths[i] = the depth key, or offset 0 and kCulled. Returns the kept count.
-uint32_t ProjectBatch(const float* xyz, int n, const ViewRows& v, bool reversed, uint32_t* offsets, uint32_t* depths) {
-  const hn::ScalableTag<float> df;
-  const hn::RebindToSigned<decltype(df)> di;
-  const hn::RebindToUnsigned<decltype(df)> du;
-  const int N = static_cast<int>(hn::Lanes(df));
-  const auto x0 = hn::Set(df, v.x[0]), x1 = hn::Set(df, v.x[1]), x2 = hn::Set(df, v.x[2]), x3 = hn::Set(df, v.x[3]);
-  const auto y0 = hn::Set(df, v.y[0]), y1 = hn::Set(df, v.y[1]), y2 = hn::Set(df, v.y[2]), y3 = hn::Set(df, v.y[3]);
-  const auto z0 = hn::Set(df, v.z[0]), z1 = hn::Set(df, v.z[1]), z2 = hn::Set(df, v.z[2]), z3 = hn::Set(df, v.z[3]);
-  const auto w0 = hn::Set(df, v.w[0]), w1 = hn::Set(df, v.w[1]), w2 = hn::Set(df, v.w[2]), w3 = hn::Set(df, v.w[3]);
-  const auto width = hn::Set(df, v.width), height = hn::Set(df, v.height);
-  const auto zero = hn::Zero(df), half = hn::Set(df, 0.5f), maxFinite = hn::Set(df, std::numeric_limits<float>::max());
-  const auto stride = hn::Set(di, v.stride);
-  const auto signMask = hn::Set(du, 0x7FFFFFFFu), one = hn::Set(du, kOneBits), culled = hn::Set(du, kCulled);
+// The projection of splat.h's conventions for a vector of points at a time, the view's constants in
+// registers: clip position, screen position, the tests, the pixel's offset and d = z / w.
+struct Projector {
+  using DF = hn::ScalableTag<float>;
+  using DI = hn::RebindToSigned<DF>;
+  using DU = hn::RebindToUnsigned<DF>;
+  using VF = hn::Vec<DF>;
+  DF df;
+  DI di;
+  DU du;
+  VF x0, x1, x2, x3, y0, y1, y2, y3, z0, z1, z2, z3, w0, w1, w2, w3, width, height, zero, half, maxFinite;
+  hn::Vec<DI> stride;
   HWY_ALIGN float tail[3 * HWY_MAX_BYTES / sizeof(float)];
-  uint32_t kept = 0;
-  for (int i = 0; i < n; i += N) {
-    hn::Vec<decltype(df)> px, py, pz;
-    auto valid = hn::FirstN(df, static_cast<size_t>(n - i));
-    if (i + N <= n) {
+
+  explicit Projector(const ViewRows& v)
+      : x0(hn::Set(df, v.x[0])), x1(hn::Set(df, v.x[1])), x2(hn::Set(df, v.x[2])), x3(hn::Set(df, v.x[3])),
+        y0(hn::Set(df, v.y[0])), y1(hn::Set(df, v.y[1])), y2(hn::Set(df, v.y[2])), y3(hn::Set(df, v.y[3])),
+        z0(hn::Set(df, v.z[0])), z1(hn::Set(df, v.z[1])), z2(hn::Set(df, v.z[2])), z3(hn::Set(df, v.z[3])),
+        w0(hn::Set(df, v.w[0])), w1(hn::Set(df, v.w[1])), w2(hn::Set(df, v.w[2])), w3(hn::Set(df, v.w[3])),
+        width(hn::Set(df, v.width)), height(hn::Set(df, v.height)), zero(hn::Zero(df)), half(hn::Set(df, 0.5f)),
+        maxFinite(hn::Set(df, std::numeric_limits<float>::max())), stride(hn::Set(di, v.stride)) {}
+
+  int lanes() const { return static_cast<int>(hn::Lanes(df)); }
+
+  struct Lanes {
+    hn::Mask<DF> ok;
+    hn::Vec<DI> ix, iy;
+    hn::Vec<DU> offset;  // y * stride + x, 0 where culled
+    hn::Vec<DU> depth;   // bits of d = z / w, -0 as +0
+  };
+
+  // Points [i, i + lanes) of xyz (3 n floats; past n: culled).
+  Lanes at(const float* xyz, int i, int n) {
+    VF px, py, pz;
+    const auto valid = hn::FirstN(df, static_cast<size_t>(n - i));
+    if (i + lanes() <= n) {
       hn::LoadInterleaved3(df, xyz + 3 * i, px, py, pz);
     } else {  // the last, partial vector: from a zero-padded copy (zeros give w = 0: culled anyway)
       std::memset(tail, 0, sizeof(tail));
@@ -146,83 +161,58 @@ uint32_t ProjectBatch(const float* xyz, int n, const ViewRows& v, bool reversed,
     ok = hn::And(ok, hn::And(hn::Ge(cz, zero), hn::Le(cz, cw)));
     ok = hn::And(ok, hn::And(hn::Ge(sx, zero), hn::Lt(sx, width)));
     ok = hn::And(ok, hn::And(hn::Ge(sy, zero), hn::Lt(sy, height)));
+    Lanes l;
+    l.ok = ok;
     // Kept lanes have 0 <= sx < width <= 16384: truncation is floor and is exact. Culled lanes are
     // zeroed first (their sx may be NaN or huge).
-    const auto ix = hn::ConvertTo(di, hn::IfThenElseZero(ok, sx));
-    const auto iy = hn::ConvertTo(di, hn::IfThenElseZero(ok, sy));
-    const auto offset = hn::BitCast(du, hn::Add(hn::Mul(iy, stride), ix));  // < 2^28 (conventions.h)
+    l.ix = hn::ConvertTo(di, hn::IfThenElseZero(ok, sx));
+    l.iy = hn::ConvertTo(di, hn::IfThenElseZero(ok, sy));
+    l.offset = hn::IfThenElseZero(hn::RebindMask(du, ok), hn::BitCast(du, hn::Add(hn::Mul(l.iy, stride), l.ix)));
     // d = z / w in [-0, 1] when kept; clearing the sign bit maps -0 to +0.
-    auto depth = hn::And(hn::BitCast(du, hn::Div(cz, cw)), signMask);
-    if (reversed) depth = hn::Sub(one, depth);
-    const auto oku = hn::RebindMask(du, ok);
-    hn::StoreU(hn::IfThenElseZero(oku, offset), du, offsets + i);
-    hn::StoreU(hn::IfThenElse(oku, depth, culled), du, depths + i);
-    kept += static_cast<uint32_t>(hn::CountTrue(df, ok));
+    l.depth = hn::And(hn::BitCast(du, hn::Div(cz, cw)), hn::Set(du, 0x7FFFFFFFu));
+    return l;
+  }
+};
+
+// Projects points [0, n) (xyz: 3 n floats, n <= kBatch) into view v: offsets[i] = y * stride + x
+// of the pixel and depths[i] = the depth key, or offset 0 and kCulled. Returns the kept count.
+uint32_t ProjectBatch(const float* xyz, int n, const ViewRows& v, bool reversed, uint32_t* offsets, uint32_t* depths) {
+  Projector p(v);
+  const auto one = hn::Set(p.du, kOneBits), culled = hn::Set(p.du, kCulled);
+  uint32_t kept = 0;
+  for (int i = 0; i < n; i += p.lanes()) {
+    const Projector::Lanes l = p.at(xyz, i, n);
+    const auto depth = reversed ? hn::Sub(one, l.depth) : l.depth;
+    hn::StoreU(l.offset, p.du, offsets + i);
+    hn::StoreU(hn::IfThenElse(hn::RebindMask(p.du, l.ok), depth, culled), p.du, depths + i);
+    kept += static_cast<uint32_t>(hn::CountTrue(p.df, l.ok));
   }
   return kept;
 }
 
-// The depth splat's projection (splat.h, "Depth-only splatting"): ProjectBatch's operations for
-// the pixel and the tests, then the bits of d = z / w. rect (x0, y0, x1, y1) grows to hold every
-// kept texel.
+// The depth splat's projection (splat.h, "Depth-only splatting"): ProjectBatch's, the bits of
+// d = z / w as they are. rect (x0, y0, x1, y1) grows to hold every kept texel.
 uint32_t ProjectDepthBatch(const float* xyz, int n, const DepthRows& dv, uint32_t* offsets, uint32_t* depths,
                            int32_t* rect) {
-  const hn::ScalableTag<float> df;
-  const hn::RebindToSigned<decltype(df)> di;
-  const hn::RebindToUnsigned<decltype(df)> du;
-  const ViewRows& v = dv.r;
-  const int N = static_cast<int>(hn::Lanes(df));
-  const auto x0 = hn::Set(df, v.x[0]), x1 = hn::Set(df, v.x[1]), x2 = hn::Set(df, v.x[2]), x3 = hn::Set(df, v.x[3]);
-  const auto y0 = hn::Set(df, v.y[0]), y1 = hn::Set(df, v.y[1]), y2 = hn::Set(df, v.y[2]), y3 = hn::Set(df, v.y[3]);
-  const auto z0 = hn::Set(df, v.z[0]), z1 = hn::Set(df, v.z[1]), z2 = hn::Set(df, v.z[2]), z3 = hn::Set(df, v.z[3]);
-  const auto w0 = hn::Set(df, v.w[0]), w1 = hn::Set(df, v.w[1]), w2 = hn::Set(df, v.w[2]), w3 = hn::Set(df, v.w[3]);
-  const auto width = hn::Set(df, v.width), height = hn::Set(df, v.height);
-  const auto zero = hn::Zero(df), half = hn::Set(df, 0.5f), maxFinite = hn::Set(df, std::numeric_limits<float>::max());
-  const auto stride = hn::Set(di, v.stride);
-  const auto signMask = hn::Set(du, 0x7FFFFFFFu), culled = hn::Set(du, kCulled);
-  auto minX = hn::Set(di, rect[0]), minY = hn::Set(di, rect[1]);
-  auto maxX = hn::Set(di, rect[2] - 1), maxY = hn::Set(di, rect[3] - 1);
-  const auto big = hn::Set(di, std::numeric_limits<int32_t>::max()), none = hn::Set(di, -1);
-  HWY_ALIGN float tail[3 * HWY_MAX_BYTES / sizeof(float)];
+  Projector p(dv.r);
+  const auto culled = hn::Set(p.du, kCulled);
+  auto minX = hn::Set(p.di, rect[0]), minY = hn::Set(p.di, rect[1]);
+  auto maxX = hn::Set(p.di, rect[2] - 1), maxY = hn::Set(p.di, rect[3] - 1);
+  const auto big = hn::Set(p.di, std::numeric_limits<int32_t>::max()), none = hn::Set(p.di, -1);
   uint32_t kept = 0;
-  for (int i = 0; i < n; i += N) {
-    hn::Vec<decltype(df)> px, py, pz;
-    const auto valid = hn::FirstN(df, static_cast<size_t>(n - i));
-    if (i + N <= n) {
-      hn::LoadInterleaved3(df, xyz + 3 * i, px, py, pz);
-    } else {  // the last, partial vector: from a zero-padded copy (zeros give w = 0: culled anyway)
-      std::memset(tail, 0, sizeof(tail));
-      std::memcpy(tail, xyz + 3 * i, static_cast<size_t>(3 * (n - i)) * sizeof(float));
-      hn::LoadInterleaved3(df, tail, px, py, pz);
-    }
-    const auto cx = hn::Add(hn::Add(hn::Mul(x0, px), hn::Mul(x1, py)), hn::Add(hn::Mul(x2, pz), x3));
-    const auto cy = hn::Add(hn::Add(hn::Mul(y0, px), hn::Mul(y1, py)), hn::Add(hn::Mul(y2, pz), y3));
-    const auto cz = hn::Add(hn::Add(hn::Mul(z0, px), hn::Mul(z1, py)), hn::Add(hn::Mul(z2, pz), z3));
-    const auto cw = hn::Add(hn::Add(hn::Mul(w0, px), hn::Mul(w1, py)), hn::Add(hn::Mul(w2, pz), w3));
-    const auto sx = hn::Mul(hn::Add(hn::Mul(hn::Div(cx, cw), half), half), width);
-    const auto sy = hn::Mul(hn::Sub(half, hn::Mul(hn::Div(cy, cw), half)), height);
-    auto ok = hn::And(valid, hn::And(hn::Gt(cw, zero), hn::Le(cw, maxFinite)));
-    ok = hn::And(ok, hn::And(hn::Ge(cz, zero), hn::Le(cz, cw)));
-    ok = hn::And(ok, hn::And(hn::Ge(sx, zero), hn::Lt(sx, width)));
-    ok = hn::And(ok, hn::And(hn::Ge(sy, zero), hn::Lt(sy, height)));
-    const auto ix = hn::ConvertTo(di, hn::IfThenElseZero(ok, sx));
-    const auto iy = hn::ConvertTo(di, hn::IfThenElseZero(ok, sy));
-    const auto offset = hn::BitCast(du, hn::Add(hn::Mul(iy, stride), ix));
-    const auto depth = hn::And(hn::BitCast(du, hn::Div(cz, cw)), signMask);
-    const auto oku = hn::RebindMask(du, ok);
-    const auto oki = hn::RebindMask(di, ok);
-    hn::StoreU(hn::IfThenElseZero(oku, offset), du, offsets + i);
-    hn::StoreU(hn::IfThenElse(oku, depth, culled), du, depths + i);
-    minX = hn::Min(minX, hn::IfThenElse(oki, ix, big));
-    minY = hn::Min(minY, hn::IfThenElse(oki, iy, big));
-    maxX = hn::Max(maxX, hn::IfThenElse(oki, ix, none));
-    maxY = hn::Max(maxY, hn::IfThenElse(oki, iy, none));
-    kept += static_cast<uint32_t>(hn::CountTrue(df, ok));
+  for (int i = 0; i < n; i += p.lanes()) {
+    const Projector::Lanes l = p.at(xyz, i, n);
+    const auto oki = hn::RebindMask(p.di, l.ok);
+    hn::StoreU(l.offset, p.du, offsets + i);
+    hn::StoreU(hn::IfThenElse(hn::RebindMask(p.du, l.ok), l.depth, culled), p.du, depths + i);
+    minX = hn::Min(minX, hn::IfThenElse(oki, l.ix, big)), minY = hn::Min(minY, hn::IfThenElse(oki, l.iy, big));
+    maxX = hn::Max(maxX, hn::IfThenElse(oki, l.ix, none)), maxY = hn::Max(maxY, hn::IfThenElse(oki, l.iy, none));
+    kept += static_cast<uint32_t>(hn::CountTrue(p.df, l.ok));
   }
-  rect[0] = hn::GetLane(hn::MinOfLanes(di, minX));
-  rect[1] = hn::GetLane(hn::MinOfLanes(di, minY));
-  rect[2] = hn::GetLane(hn::MaxOfLanes(di, maxX)) + 1;
-  rect[3] = hn::GetLane(hn::MaxOfLanes(di, maxY)) + 1;
+  rect[0] = hn::GetLane(hn::MinOfLanes(p.di, minX));
+  rect[1] = hn::GetLane(hn::MinOfLanes(p.di, minY));
+  rect[2] = hn::GetLane(hn::MaxOfLanes(p.di, maxX)) + 1;
+  rect[3] = hn::GetLane(hn::MaxOfLanes(p.di, maxY)) + 1;
   return kept;
 }
 

@@ -37,8 +37,9 @@ def panel(x0, title, key, ylabel, log):
     for i in range(5):
         v = lo + (hi - lo) * i / 4
         label = 10 ** v if log else v
+        text = f"{label:.0f}" if label >= 100 else f"{label:.3g}"
         y = 20 + (1 - i / 4) * (h - bottom)
-        out.append(f'<text x="{x0 + left - 4}" y="{y + 3:.1f}" text-anchor="end" font-size="10">{label:.3g}</text>')
+        out.append(f'<text x="{x0 + left - 4}" y="{y + 3:.1f}" text-anchor="end" font-size="10">{text}</text>')
         out.append(f'<line x1="{x0 + left}" y1="{y:.1f}" x2="{x0 + w - 10}" y2="{y:.1f}" stroke="#ddd"/>')
     out.append(f'<text x="{x0 + w / 2}" y="{20 + h - 5}" text-anchor="middle" font-size="10">light area '
                f'(samples 8 to {8 * steps[-1]})</text>')

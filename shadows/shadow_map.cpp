@@ -18,6 +18,8 @@ CasterCull casterCull(const ParamSet& params) {
 }
 
 std::vector<CasterDraw> casterDraws(const Geometry& casters, CasterCull cull, const RectLight* light) {
+  // sin 30 degrees: faces within 30 degrees of edge-on to some light corner are kept (below).
+  constexpr float kGrazing = 0.5f;
   std::vector<CasterDraw> draws;
   if (light && cull != CasterCull::None) {
     glm::vec3 corners[4];
@@ -27,9 +29,15 @@ std::vector<CasterDraw> casterDraws(const Geometry& casters, CasterCull cull, co
       const uint32_t* tri = &casters.indices[3 * t];
       bool keep = cull == CasterCull::Auto && !casters.isClosed(t);
       if (!keep) {  // counter-clockwise seen from outside: the normal points out
-        const glm::vec3 a = casters.positions[tri[0]];
-        const glm::vec3 n = glm::cross(casters.positions[tri[1]] - a, casters.positions[tri[2]] - a);
-        for (const glm::vec3& c : corners) keep = keep || glm::dot(n, c - a) > 0.0f;
+        const glm::vec3 p0 = casters.positions[tri[0]], p1 = casters.positions[tri[1]], p2 = casters.positions[tri[2]];
+        const glm::vec3 n = glm::cross(p1 - p0, p2 - p0);
+        const glm::vec3 a = (p0 + p1 + p2) / 3.0f;  // the angles are seen from the centroid
+        // Kept unless every corner lies behind the plane, more than 30 degrees from it: a ray from
+        // a light point grazing a closed mesh enters through a face the source view may see
+        // edge-on (few points) and leaves through a face at that grazing angle too, which fills
+        // the gaps; the faces well turned away (a sphere's underside) go.
+        for (const glm::vec3& c : corners)
+          keep = keep || glm::dot(n, c - a) > -kGrazing * glm::length(n) * glm::length(c - a);
         keep = keep || !(glm::dot(n, n) > 0.0f);  // degenerate (or not finite): left to the rasterizer
       }
       if (!keep) continue;

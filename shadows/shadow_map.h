@@ -95,9 +95,10 @@ struct CasterDraw {
 // (Auto: the closed meshes' triangles culled, the rest not), empty ones dropped; submission order
 // kept within each.
 // For one view standing in for every point of `light` (view-warped shadows' source view): a face is
-// culled only when the whole light lies behind its plane (no light point sees its front), tested
-// per triangle here, and one draw without the rasterizer's culling takes the rest -- a face seen
-// from behind by the source view may still face a corner of the light.
+// culled only when the whole light lies behind its plane (no light point sees its front) by more
+// than 30 degrees (faces near edge-on fill the gaps a grazing front face leaves in the points),
+// tested per triangle here, and one draw without the rasterizer's culling takes the rest -- a face
+// seen from behind by the source view may still face a corner of the light.
 std::vector<CasterDraw> casterDraws(const Geometry& casters, CasterCull cull, const RectLight* light = nullptr);
 
 // Renders the context's kept casters into map.depth from map.view (a depth-only pass,

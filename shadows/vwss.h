@@ -4,19 +4,23 @@
 //
 //  1. Point generation (section 3.1): the casters are rasterized once, from a source view behind
 //     the light's centre that contains the whole light and every receiver (makeContainingView,
-//     Eqs. 1-3: moved back by D, near plane on the light, resolution raised by (near + D) / near),
-//     with the depth test off (and, with cull=back, the faces turned away from the light culled, as
-//     the paper does for closed meshes; off by default: open surfaces need both sides): every fragment becomes a
-//     world-space point, the hidden layers included (which is what removes the disocclusion leaks
-//     of naive warping, the paper's Fig. 4 b; the containing view removes the field-of-view leaks,
-//     Fig. 4 a, c).
-//  2. Depth maps (section 3.2): the points are splatted (raster/splat.h: an atomic min of a 64-bit
-//     key, reversed depth in the high half) into M light-sample views -- the same Hammersley light
-//     points and the same fitted views as `mvr` -- K views per traversal of the points; each pass
-//     of K maps is resolved to depth and looked up before the next pass reuses the buffers.
-//  3. Shading: per receiver and map, a small PCF (1 or 5 taps: the texel and its 4 neighbours)
-//     with the bias of `hard`, and the receiver's horizon exactly per light sample, as MVR does;
-//     V = lit taps / all taps.
+//     Eqs. 1-3: moved back by D, near plane on the light, resolution raised by (near + D) / near,
+//     times `oversample`), with the depth test off: every fragment becomes a world-space point,
+//     the hidden layers included (which is what removes the disocclusion leaks of naive warping,
+//     the paper's Fig. 4 b; the containing view removes the field-of-view leaks, Fig. 4 a, c).
+//     With splat=surfel each point carries its source pixel's footprint on its triangle's plane.
+//     cull=auto (default) leaves out the faces of closed meshes that the whole light sees from
+//     behind by more than 30 degrees (shadow_map.h casterDraws).
+//  2. Depth maps (section 3.2): the points are splatted (raster/splat.h splatDepth: an atomic max
+//     on the bits of the reversed depth, the paper's Listing 2) into M light-sample views -- the
+//     same light points and fitted views as `mvr` -- K views per traversal of the points; the K
+//     maps are 32-bit depth read in place by the tests, reused pass after pass with only the
+//     rectangle the points touched cleared. A surfel covers the texel centres inside its
+//     projected footprint with its plane's depth there; a point (splat=point, the paper) its own
+//     texel with its own depth.
+//  3. Shading: per receiver and map, the texel (or, pcf=5, with its 4 neighbours) with the
+//     receiver-plane test of `mvr` and the receiver's horizon exactly per light sample, over the K
+//     maps of a pass at once (light_samples.h); V = lit taps / all taps.
 //
 // Variants: `buffered` (points stored, then splatted: one rasterization) and `unbuffered`
 // (fragments splatted straight from the point-generation pass: one rasterization per pass of K
@@ -24,8 +28,8 @@
 // `layers=nearest` keeps only the nearest fragment per source texel (a plain depth map warped),
 // `containing=off` puts the source view on the light's centre.
 //
-// Timing: point generation, splatting and resolving count as "maps" (JSON ms_maps), lookups as
-// "evaluate". docs/techniques/vwss.md.
+// Timing: point generation (ms_points) and clearing and splatting (ms_splat) make "maps" (ms_maps),
+// the tests "evaluate". docs/techniques/vwss.md.
 //
 // Thread-safety: as every technique (technique.h): one thread at a time uses an instance;
 // generateLightPoints runs in the rasterizer's arena and writes only its result.
