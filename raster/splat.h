@@ -157,7 +157,7 @@ class PointSplatter {
 // A = J u, B = J v, det = A.x B.y - A.y B.x; a texel centre c (i + 0.5, j + 0.5), q = c - s:
 //     a = (B.y q.x - B.x q.y) / det,   b = (A.x q.y - A.y q.x) / det,
 //     covered iff |a| <= h and |b| <= h, h = 1/2 + 1/64 (the linearized parallelograms of
-//     neighbouring surfels meet only to first order: the margin closes the cracks between them),
+//     neighbouring surfels meet only to first order: the margin guards the seams between them),
 //     depth d(c) = d + (a D u + b D v)  (z / w is affine in screen position over a plane: exact
 //     up to rounding), bounded to [d / 2, min(2 d, 1)].
 // The candidate centres are those of the box s +- (|A| + |B|) h per axis (at most 9 texels a side,
