@@ -278,8 +278,9 @@ uint32_t SplatSurfelBatch(const SurfelBatch& b, const DepthRows& dv, bool revers
     const auto sy = hn::Mul(hn::Sub(half, hn::Mul(Y, half)), height);
     auto ok = hn::And(hn::FirstN(df, static_cast<size_t>(b.n - i)), hn::And(hn::Gt(cw, zero), hn::Le(cw, maxFinite)));
     ok = hn::And(ok, hn::And(hn::Ge(cz, zero), hn::Le(cz, cw)));
-    ok = hn::And(ok, hn::And(hn::Ge(sx, zero), hn::Lt(sx, width)));
-    ok = hn::And(ok, hn::And(hn::Ge(sy, zero), hn::Lt(sy, height)));
+    // Within reach of the view: a footprint whose centre lies just outside covers its border texels.
+    ok = hn::And(ok, hn::And(hn::Ge(sx, hn::Neg(reach)), hn::Lt(sx, hn::Add(width, reach))));
+    ok = hn::And(ok, hn::And(hn::Ge(sy, hn::Neg(reach)), hn::Lt(sy, hn::Add(height, reach))));
     kept += static_cast<uint32_t>(hn::CountTrue(df, ok));
     if (hn::AllFalse(df, ok)) continue;
     const auto k = hn::Div(one, cw);
@@ -300,7 +301,7 @@ uint32_t SplatSurfelBatch(const SurfelBatch& b, const DepthRows& dv, bool revers
     auto ex = hn::Mul(hn::Add(hn::Abs(Ax), hn::Abs(Bx)), h), ey = hn::Mul(hn::Add(hn::Abs(Ay), hn::Abs(By)), h);
     ex = hn::IfThenElse(hn::Le(ex, reach), ex, reach), ey = hn::IfThenElse(hn::Le(ey, reach), ey, reach);
     const auto sxk = hn::IfThenElseZero(ok, sx), syk = hn::IfThenElseZero(ok, sy);
-    const auto ix = hn::ConvertTo(di, sxk), iy = hn::ConvertTo(di, syk);
+    const auto ix = hn::ConvertTo(di, hn::Floor(sxk)), iy = hn::ConvertTo(di, hn::Floor(syk));
     auto i0 = hn::ConvertTo(di, hn::Ceil(hn::Sub(hn::Sub(sxk, ex), half)));
     auto i1 = hn::ConvertTo(di, hn::Floor(hn::Sub(hn::Add(sxk, ex), half)));
     auto j0 = hn::ConvertTo(di, hn::Ceil(hn::Sub(hn::Sub(syk, ey), half)));

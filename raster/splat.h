@@ -162,8 +162,10 @@ class PointSplatter {
 //     up to rounding), bounded to [d / 2, min(2 d, 1)].
 // The candidate centres are those of the box s +- (|A| + |B|) h per axis (at most 9 texels a side,
 // around the point's own texel: a footprint seen at a grazing angle covers more, and its far part
-// is dropped), inside the view. The point's own screen position must lie inside the view, as for
-// plain points. A degenerate footprint (det 0 or not finite) covers nothing. Points without edge
+// is dropped), inside the view. The point's own screen position may lie up to kMaxSurfelReach
+// texels outside the view (plain points: inside it): a footprint centred just past the border
+// covers the border texels, which a source view coarser than the map would otherwise leave empty
+// (a light leak along the map's edge). A degenerate footprint (det 0 or not finite) covers nothing. Points without edge
 // vectors write the texel they fall in with their own depth, as above.
 //
 // Touched rectangles: per view, the smallest rectangle holding every texel written by the call

@@ -307,9 +307,8 @@ LightView makeContainingView(const RectLight& light, const LightRegion& region, 
   // m (ext_source / ext_sample) (near + D) / near, at most maxSize.
   const float grow = (znear + back) / znear;
   auto side = [&](float extSource, float extSample, int m) {
-    const double s = std::ceil(static_cast<double>(m) * static_cast<double>(extSource / extSample) *
-                               static_cast<double>(grow));
-    return static_cast<int>(std::clamp(s, 16.0, static_cast<double>(maxSize)));
+    return std::max(16.0, std::ceil(static_cast<double>(m) * static_cast<double>(extSource / extSample) *
+                                     static_cast<double>(grow)));
   };
   // Texels at most 100 times longer than wide: receivers along a line (a degenerate box) would
   // otherwise give a map a millionth of a texel wide that the rasterizer cannot resolve.
@@ -317,7 +316,10 @@ LightView makeContainingView(const RectLight& light, const LightRegion& region, 
   const glm::vec2 ext = glm::max(raw, glm::vec2(std::max(1e-6f, 1e-2f * std::max(raw.x, raw.y))));
   lo -= 0.5f * (ext - raw);
   hi += 0.5f * (ext - raw);
-  const int w = side(ext.x, sampleExt.x, sample.width), h = side(ext.y, sampleExt.y, sample.height);
+  const double sw = side(ext.x, sampleExt.x, sample.width), sh = side(ext.y, sampleExt.y, sample.height);
+  const double shrink = std::min(1.0, static_cast<double>(maxSize) / std::max(sw, sh));
+  const auto fit = [&](double s) { return static_cast<int>(std::clamp(std::ceil(s * shrink), 16.0, 1.0 * maxSize)); };
+  const int w = fit(sw), h = fit(sh);
   // Its near plane is the light's plane (depth D): nothing behind the light is rasterized.
   return finishView(light, light.center - back * light.normal(), lo, hi, back, w, h);
 }

@@ -141,7 +141,8 @@ LightView makeLightView(const RectLight& light, const LightRegion& region, glm::
 // the light's centre, moved back along the normal by D (Eq. 1, from `sample`'s field of view) so
 // that its frustum contains the whole light and every receiver, with its near plane on the light
 // (depth D), at the resolution that keeps `sample`'s texel size on surfaces at depth `znear` from
-// the light (Eq. 3, per axis, at most maxSize).
+// the light (Eq. 3, per axis); where a side would pass maxSize both shrink by the same factor (the
+// texels keep their shape).
 LightView makeContainingView(const RectLight& light, const LightRegion& region, const LightView& sample, float znear,
                              int maxSize);
 

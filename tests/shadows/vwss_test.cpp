@@ -117,6 +117,41 @@ double maxDiff(const raster::ImageFloat& a, const raster::ImageFloat& b, double*
   return m;
 }
 
+// The containing view's Eq. 3 grows with (near + D) / near: a caster just below the light asks
+// for a huge source view. The cap shrinks both sides by one factor, so the texels keep their shape
+// (a wide region stays wide), and leaves a view under the cap as Eq. 3 gives it.
+TEST(Vwss, ContainingViewCapKeepsTheTexelShape) {
+  RectLight light;
+  makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1, 1, glm::vec3(1), 1, light);
+  LightRegion region;
+  region.empty = false;
+  region.lo = {-3.0f, 0.0f, -1.5f};
+  region.hi = {3.0f, 3.9f, 1.5f};
+  const LightView sample = makeLightView(light, region, {0, 0}, 0.5f, 256, 256);
+  const LightView free = makeContainingView(light, region, sample, 0.5f, 16384);
+  ASSERT_LT(free.width, 4096);
+  EXPECT_EQ(free.width, makeContainingView(light, region, sample, 0.5f, free.width).width);
+  const auto texelShape = [](const LightView& v) {
+    return (static_cast<double>(v.tanHi.x - v.tanLo.x) / v.width) /
+           (static_cast<double>(v.tanHi.y - v.tanLo.y) / v.height);
+  };
+  EXPECT_GT(static_cast<double>(free.width) / free.height, 1.2);  // the region is wide
+  const LightView nearLight = makeContainingView(light, region, sample, 1e-3f, 16384);
+  EXPECT_EQ(std::max(nearLight.width, nearLight.height), 16384);
+  for (const int cap : {free.width / 2, free.width / 5}) {
+    const LightView capped = makeContainingView(light, region, sample, 0.5f, cap);
+    EXPECT_EQ(std::max(capped.width, capped.height), cap);
+    EXPECT_NEAR(texelShape(capped), texelShape(free), 0.02) << cap;
+    // The same frustum (up to its one-texel margin): only the resolution changes.
+    EXPECT_EQ(capped.znear, free.znear);
+    EXPECT_EQ(capped.origin, free.origin);
+    EXPECT_LE(capped.tanLo.x, free.tanLo.x);
+    EXPECT_GE(capped.tanHi.y, free.tanHi.y);
+    EXPECT_NEAR(capped.tanHi.x - capped.tanLo.x, free.tanHi.x - free.tanLo.x,
+                0.02f * (free.tanHi.x - free.tanLo.x));
+  }
+}
+
 TEST(Vwss, NoLeaksWhereNaiveWarpingLeaks) {
   LeakScene s;
   const std::string common = "views=64,map_size=256";
