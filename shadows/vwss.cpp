@@ -111,7 +111,7 @@ class Vwss final : public Technique {
     // asks for a source view far finer than the maps can use. Auto caps it at twice the
     // oversampled map side (the bench scenes need at most 1.7 times).
     maxSource_ = params.integer("max_source");
-    if (maxSource_ == 0) maxSource_ = std::min(16384, 2 * scaled.width);
+    maxSource_ = maxSource_ == 0 ? std::min(16384, 2 * scaled.width) : std::max(16, maxSource_);  // 1..15: 16
     scaled.width = std::min(scaled.width, maxSource_);
     scaled.height = scaled.width;
     source_ = containing_ ? makeContainingView(ctx.in.light, ctx.region, scaled, znear_, maxSource_)
@@ -390,14 +390,15 @@ TechniqueInfo vwssTechnique() {
                .choices = {},
                .help = "source view resolution over Eq. 3's, per axis (surfels: finer outlines, more "
                        "points; points: fewer holes, more bloat)"});
-  p.push_back({.name = "max_source",
-               .kind = ParamKind::Int,
-               .defaultValue = 0,
-               .minValue = 0,
-               .maxValue = 16384,
-               .choices = {},
-               .help = "largest side of the source view, texels (0: twice the oversampled map side); "
-                       "past it both sides shrink alike"});
+  p.push_back(
+      {.name = "max_source",
+       .kind = ParamKind::Int,
+       .defaultValue = 0,
+       .minValue = 0,
+       .maxValue = 16384,
+       .choices = {},
+       .help = "largest side of the source view, texels, at least 16 (0: twice the oversampled map side); "
+               "past it both sides shrink alike"});
   p.push_back(choiceParam(
       "splat", 0, {"surfel", "point"},
       "what a point writes: its source pixel's footprint, at the texel centres it covers with its "
