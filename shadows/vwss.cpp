@@ -84,6 +84,15 @@ raster::SurfelAxes surfelOf(const LightView& src, const Geometry& g, uint32_t t,
   return {u, v};
 }
 
+// The source view's side before Eq. 3: the map side times `oversample`.
+int oversampledSide(int mapSize, float oversample) {
+  return std::max(16, static_cast<int>(std::ceil(static_cast<float>(mapSize) * oversample)));
+}
+// max_source's automatic value: twice that side.
+int autoMaxSource(int oversampled) {
+  return std::min(16384, 2 * oversampled);
+}
+
 class Vwss final : public Technique {
  public:
   void prepare(ShadowContext& ctx, const ParamSet& params) override {
@@ -106,12 +115,12 @@ class Vwss final : public Technique {
     // no point lands in is a hole; Eq. 3 matches the texel sizes only for surfaces facing both views.
     const float over = static_cast<float>(params.number("oversample"));
     LightView scaled = centre;
-    scaled.width = std::max(16, static_cast<int>(std::ceil(static_cast<float>(size_) * over)));
+    scaled.width = oversampledSide(size_, over);
     // The containing view's Eq. 3 grows with (near + D) / near: a caster just below the light
     // asks for a source view far finer than the maps can use. Auto caps it at twice the
     // oversampled map side (the bench scenes need at most 1.7 times).
     maxSource_ = params.integer("max_source");
-    maxSource_ = maxSource_ == 0 ? std::min(16384, 2 * scaled.width) : std::max(16, maxSource_);  // 1..15: 16
+    maxSource_ = maxSource_ == 0 ? autoMaxSource(scaled.width) : std::max(16, maxSource_);  // 1..15: 16
     scaled.width = std::min(scaled.width, maxSource_);
     scaled.height = scaled.width;
     source_ = containing_ ? makeContainingView(ctx.in.light, ctx.region, scaled, znear_, maxSource_)
@@ -425,8 +434,8 @@ TechniqueInfo vwssTechnique() {
             if (pass == 0) pass = static_cast<uint64_t>(q.integer("views"));
             uint64_t source = static_cast<uint64_t>(q.integer("max_source"));
             if (source == 0)
-              source =
-                  2 * static_cast<uint64_t>(std::ceil(static_cast<double>(size) * q.number("oversample")));
+              source = static_cast<uint64_t>(autoMaxSource(
+                  oversampledSide(q.integer("map_size"), static_cast<float>(q.number("oversample")))));
             return pass * size * size * 4 + std::min<uint64_t>(source * source, size * size * 64) * 100;
           }};
 }
