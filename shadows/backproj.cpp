@@ -87,17 +87,6 @@ struct Counts {
 
 enum class Occlusion { Bitmask, Area };
 
-// The receiver-plane test of shadow_map.h (a texel blocks when its stored value exceeds the
-// threshold) without ReceiverPlane's upper clamp: a search area reaches far along a steep
-// receiver plane, to where the plane comes nearer the light than half the receiver's depth;
-// clamped there, the plane's own texels would be blockers.
-struct BlockerPlane {
-  TapPlane p;
-  float threshold(float tanX, float tanY) const {
-    return p.scale * std::max(p.lo, p.a * tanX + p.b * tanY + p.c);
-  }
-};
-
 class Backproj final : public Technique {
  public:
   void prepare(ShadowContext& ctx, const ParamSet& params) override {

@@ -8,6 +8,7 @@
 #include "shadows/ground_truth.h"
 #include "shadows/hard.h"
 #include "shadows/mvr.h"
+#include "shadows/occtex.h"
 #include "shadows/pcf.h"
 #include "shadows/pcss.h"
 #include "shadows/pfsvsm.h"
@@ -21,7 +22,7 @@ namespace penumbra::shadows {
 std::vector<TechniqueInfo> allTechniques() {
   return {hardTechnique(), pcfTechnique(), pcssTechnique(), vsmTechnique(), evsm2Technique(), evsm4Technique(),
           esmTechnique(), essmTechnique(),
-          savsmTechnique(), vssmTechnique(), cssmTechnique(), pfsvsmTechnique(), backprojTechnique(), sssmTechnique(), mvrTechnique(), vwssTechnique(), referenceTechnique()};
+          savsmTechnique(), vssmTechnique(), cssmTechnique(), pfsvsmTechnique(), backprojTechnique(), occtexTechnique(), sssmTechnique(), mvrTechnique(), vwssTechnique(), referenceTechnique()};
 }
 
 }  // namespace penumbra::shadows

@@ -178,6 +178,16 @@ class ReceiverPlane {
   float a_, b_, c_, lo_, hi_, scale_, tx_, ty_, d_;
 };
 
+// The receiver-plane test above (a texel blocks when its stored value exceeds the threshold)
+// without ReceiverPlane's upper clamp, for searches that reach far from the receiver
+// (backprojection, occlusion textures): along a steep receiver plane a search area reaches to
+// where the plane comes nearer the light than half the receiver's depth; clamped there, the
+// plane's own texels would be blockers.
+struct BlockerPlane {
+  TapPlane p;
+  float threshold(float tanX, float tanY) const { return p.scale * std::max(p.lo, p.a * tanX + p.b * tanY + p.c); }
+};
+
 // The accelerated test of the kernel techniques (PCF, PCSS): bounds of the stored values over every
 // texel that taps inside the tangent-space box [x0, x1] x [y0, y1] can read (a min/max pyramid of
 // the map, raster/kernels.h), against the bounds of the receiver's threshold over the box (linear,

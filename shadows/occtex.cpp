@@ -1,0 +1,387 @@
+#include "shadows/occtex.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "raster/sat.h"
+#include "shadows/area_light.h"
+#include "shadows/shadow_map.h"
+
+namespace penumbra::shadows {
+
+namespace {
+
+constexpr double kDepthScale = 16777215.0;  // 2^24 - 1: stored values in (0, 1]
+
+struct Counts {
+  uint64_t lookups = 0, settled = 0, blocks = 0, texels = 0;
+};
+
+// One layer as the receivers read it: the coverage table, and the stored values (b_0 / depth,
+// the first layer's units, so that one receiver plane serves every layer) of its covered texels as
+// two pyramids: the nearest over each block (empty texels 0) and the farthest covered one (empty
+// texels +max, so a block's min is over its covered texels only).
+struct Layer {
+  float front = 0, back = 0;  // depth range of the slab
+  // Two channels, exact integers: covered (0 or 1), and covered times the stored value in
+  // kDepthScale units (the mean depth of the covered texels of a box).
+  raster::MultiSat<uint64_t> coverage;
+  raster::MinMaxPyramid nearest, farthest;
+};
+
+class OcclusionTextures final : public Technique {
+ public:
+  void prepare(ShadowContext& ctx, const ParamSet& params) override {
+    bias_ = biasParams(params);
+    const int size = params.integer("map_size");
+    layers_ = params.integer("layers");
+    planeTest_ = params.choice("plane_test") == "on";
+    occluderDepth_ = params.choice("layer_depth") == "occluders";
+    fromMap_ = params.choice("slices") == "map";
+    sumFusion_ = params.choice("fusion") == "sum";
+    const WidenedView wide = widenedView(ctx, size);
+    view_ = wide.view;
+    margin_ = wide.margin;
+    // Slab bounds uniform in 1/depth from the near plane to the farthest receiver.
+    const float z0 = view_.znear, z1 = std::max(ctx.region.hi.z, z0 * 1.0001f);
+    bounds_.resize(static_cast<size_t>(layers_) + 1);
+    for (int k = 0; k <= layers_; ++k) {
+      const float t = static_cast<float>(k) / static_cast<float>(layers_);
+      bounds_[static_cast<size_t>(k)] = 1.0f / ((1.0f - t) / z0 + t / z1);
+    }
+    bounds_.front() = z0, bounds_.back() = z1;
+    // Each triangle to the slabs its depth range meets.
+    draws_.assign(static_cast<size_t>(layers_), {});
+    const std::vector<uint32_t>& idx = ctx.casters.indices;
+    const glm::vec3* pos = ctx.in.casters.positions.data();
+    binned_ = 0, split_ = 0;
+    for (size_t t = 0; t + 2 < idx.size(); t += 3) {
+      float lo = std::numeric_limits<float>::max(), hi = -lo;
+      for (size_t v = 0; v < 3; ++v) {
+        const float z = view_.toView(pos[idx[t + v]]).z;
+        lo = std::min(lo, z), hi = std::max(hi, z);
+      }
+      if (!(hi >= z0) || !(lo < z1)) continue;  // NaN-free casters (the engine drops the others)
+      size_t slabs = 0;
+      for (int k = 0; k < layers_; ++k) {
+        const auto uk = static_cast<size_t>(k);
+        if (hi >= bounds_[uk] && lo < bounds_[uk + 1]) {
+          draws_[uk].indices.insert(draws_[uk].indices.end(), {idx[t], idx[t + 1], idx[t + 2]});
+          ++slabs;
+        }
+      }
+      binned_ += slabs;
+      split_ += slabs > 1 ? 1 : 0;
+    }
+    int used = 0;
+    for (const CasterDraw& d : draws_) used += d.indices.empty() ? 0 : 1;
+    char line[448];
+    std::snprintf(
+        line, sizeof line,
+        "occtex: %d layers uniform in 1/depth over [%.4g, %.4g], %d with casters, %s, fusion %s; %zu of %zu "
+        "triangles binned (%.2f layers each); %zu split across layers (where the parts of an occluder hide "
+        "different parts of the light, a product of transmissions leaks); maps %dx%d",
+        layers_, static_cast<double>(z0), static_cast<double>(z1), used,
+        fromMap_ ? "dealt from one depth map" : "each rendered from its slab", sumFusion_ ? "sum" : "product",
+        binned_, idx.size() / 3,
+        static_cast<double>(binned_) / static_cast<double>(std::max<size_t>(idx.size() / 3, 1)), split_,
+        view_.width, view_.height);
+    ctx.notes.push_back(line + wide.note);
+  }
+
+  void evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) override {
+    const ReceiverImage& rec = *ctx.in.receivers;
+    transmission_.resize(rec.width(), rec.height());
+    ctx.raster.run([&] {
+      tbb::parallel_for(0, rec.height(), [&](int y) {
+        for (int x = 0; x < rec.width(); ++x) transmission_.at(x, y) = 1.0f;
+      });
+    });
+    tbb::enumerable_thread_specific<Counts> counts;
+    // slices=map: one depth map of every caster, its texels dealt to the layers by depth.
+    ShadowMap full;
+    if (fromMap_) {
+      const auto t0 = Clock::now();
+      full.view = view_;
+      renderDepthMap(ctx, full);
+      ctx.times.msMaps += msSince(t0);
+    }
+    for (int k = 0; k < layers_; ++k) {
+      if (draws_[static_cast<size_t>(k)].indices.empty()) continue;
+      const Layer layer = buildLayer(ctx, k, fromMap_ ? &full : nullptr);
+      const auto t0 = Clock::now();
+      const glm::vec3 n = ctx.in.light.normal(), c = ctx.in.light.center;
+      const auto accumulate = [&](const tbb::blocked_range<int>& rows) {
+        Counts& cnt = counts.local();
+        for (int y = rows.begin(); y != rows.end(); ++y)
+          for (int x = 0; x < rec.width(); ++x) {
+            const Receiver& r = rec.at(x, y);
+            float& t = transmission_.at(x, y);
+            if (!r.valid || t == 0.0f || !(glm::dot(r.position - c, n) > 0.0f)) continue;
+            const float b = blocked(ctx, layer, r, cnt);
+            t = sumFusion_ ? std::max(0.0f, t - b) : t * (1.0f - b);
+          }
+      };
+      ctx.raster.run([&] { tbb::parallel_for(tbb::blocked_range<int>(0, rec.height(), 4), accumulate); });
+      ctx.times.msEvaluate += msSince(t0);
+    }
+    const auto t0 = Clock::now();
+    forEachReceiver(ctx, visibility, [&](int x, int y, const Receiver&) { return transmission_.at(x, y); });
+    ctx.times.msEvaluate += msSince(t0);
+    Counts sum;
+    counts.combine_each([&](const Counts& q) {
+      sum.lookups += q.lookups, sum.settled += q.settled, sum.blocks += q.blocks, sum.texels += q.texels;
+    });
+    char line[320];
+    std::snprintf(
+        line, sizeof line,
+        "occtex: %llu layer lookups, %llu settled by the min/max pyramid alone; receiver-plane test %s: "
+        "%.2f blocks and %.2f texels refined per lookup",
+        static_cast<unsigned long long>(sum.lookups), static_cast<unsigned long long>(sum.settled),
+        planeTest_ ? "on" : "off",
+        static_cast<double>(sum.blocks) / static_cast<double>(std::max<uint64_t>(sum.lookups, 1)),
+        static_cast<double>(sum.texels) / static_cast<double>(std::max<uint64_t>(sum.lookups, 1)));
+    ctx.notes.push_back(line);
+  }
+
+ private:
+  // Renders slab k (near plane at its front, its binned triangles), or takes the full map's texels
+  // whose depth lies in the slab, and builds its table and pyramids.
+  Layer buildLayer(ShadowContext& ctx, int k, const ShadowMap* full) {
+    const auto uk = static_cast<size_t>(k);
+    Layer layer;
+    layer.front = bounds_[uk], layer.back = bounds_[uk + 1];
+    const auto t0 = Clock::now();
+    ShadowMap map;
+    if (!full) {
+      map.view = makeLightView(ctx.in.light, ctx.region, glm::vec2(0.0f), layer.front, view_.width,
+                               view_.height, margin_);
+      // The frustum's extent comes from the receivers and the margin, not the near plane: every
+      // layer has view_'s texels.
+      renderDepthMap(ctx, map, std::span<const CasterDraw>(&draws_[uk], 1));
+      ctx.times.msMaps += msSince(t0);
+    }
+    const auto t1 = Clock::now();
+    const int w = view_.width, h = view_.height;
+    // Stored near / depth: covered where depth < back, i.e. stored > near / back, and (the full
+    // map) depth >= front, i.e. stored <= near / front.
+    const float near = full ? view_.znear : layer.front;
+    const float coveredAbove = near / layer.back, toFirst = view_.znear / near;
+    const float coveredUpTo = full ? view_.znear / layer.front : std::numeric_limits<float>::max();
+    raster::ImageFloat nearest(w, h), farthest(w, h);
+    raster::Planes<uint32_t> covered(w, h, 2);
+    const raster::ImageFloat& depth = (full ? *full : map).depth.image();
+    ctx.raster.run([&] {
+      tbb::parallel_for(0, h, [&](int y) {
+        for (int x = 0; x < w; ++x) {
+          const float s = depth.at(x, y);
+          const bool in = s > coveredAbove && s <= coveredUpTo;
+          nearest.at(x, y) = in ? s * toFirst : 0.0f;
+          farthest.at(x, y) = in ? s * toFirst : std::numeric_limits<float>::max();
+          uint32_t* c = covered.pixel(x, y);
+          c[0] = in ? 1u : 0u;
+          c[1] = in ? static_cast<uint32_t>(std::lround(static_cast<double>(s * toFirst) * kDepthScale)) : 0u;
+        }
+      });
+      layer.coverage = raster::buildSatInteger(covered);
+      if (planeTest_) {
+        layer.nearest = raster::buildMinMaxPyramid(nearest);
+        layer.farthest = raster::buildMinMaxPyramid(farthest);
+      }
+    });
+    ctx.times.msFilter += msSince(t1);
+    return layer;
+  }
+
+  // The fraction of the light's footprint box at `layer` that the layer's covered texels fill
+  // (those nearer than r's tangent plane with the plane test), 0 when the layer is not in front.
+  float blocked(const ShadowContext& ctx, const Layer& layer, const Receiver& r, Counts& cnt) const {
+    const glm::vec3 v = lookupPoint(view_, r, bias_);
+    const float dr = v.z;
+    // The part of the slab in front of the receiver: the whole slab without the plane test (the
+    // paper's layers above the receiver), up to the receiver with it.
+    const float back = planeTest_ ? std::min(layer.back, dr) : layer.back;
+    if (!(layer.front < back) || !(back <= dr)) return 0.0f;
+    ++cnt.lookups;
+    // The slab's part in front of the receiver, in 1/depth: the layer is taken at its middle, or at
+    // the mean depth of what it holds in the light's footprint from there (clamped to the part).
+    const float invFront = 1.0f / layer.front, invBack = 1.0f / back;
+    Box box = footprint(ctx, v, 0.5f * (invFront + invBack));
+    if (!(box.area() > 0.0)) return 0.0f;
+    std::optional<ReceiverPlane> plane;
+    if (planeTest_) plane.emplace(view_, v, r.normal, bias_);
+    double sums[2] = {0.0, 0.0};
+    covered(layer, box, plane ? &*plane : nullptr, sums, cnt);
+    if (occluderDepth_ && sums[0] > 0.0) {
+      const double invOcc = sums[1] / (sums[0] * kDepthScale) / static_cast<double>(view_.znear);
+      box = footprint(ctx, v, std::clamp(static_cast<float>(invOcc), invBack, invFront));
+      if (!(box.area() > 0.0)) return 0.0f;
+      covered(layer, box, plane ? &*plane : nullptr, sums, cnt);
+    }
+    return static_cast<float>(std::clamp(sums[0] / box.area(), 0.0, 1.0));
+  }
+
+  // The light's footprint through receiver point v (light view, depth v.z) on the plane at depth
+  // 1/invZ, in texel coordinates (column x, row y; rows grow downwards), clamped to the map: the
+  // mean is over what the map holds (its edge stands for nothing beyond it).
+  struct Box {
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    double area() const { return (x1 - x0) * (y1 - y0); }
+  };
+  Box footprint(const ShadowContext& ctx, const glm::vec3& v, float invZ) const {
+    const float k = invZ - 1.0f / v.z;
+    const float hx = 0.5f * ctx.in.light.width * k, hy = 0.5f * ctx.in.light.height * k;
+    const float tx = v.x / v.z, ty = v.y / v.z;
+    const auto w = static_cast<double>(view_.width), h = static_cast<double>(view_.height);
+    const double sx = w / static_cast<double>(view_.tanHi.x - view_.tanLo.x);
+    const double sy = h / static_cast<double>(view_.tanHi.y - view_.tanLo.y);
+    const auto lox = static_cast<double>(view_.tanLo.x), hiy = static_cast<double>(view_.tanHi.y);
+    return {std::clamp((static_cast<double>(tx - hx) - lox) * sx, 0.0, w),
+            std::clamp((hiy - static_cast<double>(ty + hy)) * sy, 0.0, h),
+            std::clamp((static_cast<double>(tx + hx) - lox) * sx, 0.0, w),
+            std::clamp((hiy - static_cast<double>(ty - hy)) * sy, 0.0, h)};
+  }
+
+  // sums = the box's covered area and its covered texels' stored values (kDepthScale units, area-
+  // weighted), only of those nearer than `plane` when there is one.
+  void covered(const Layer& layer, const Box& b, const ReceiverPlane* plane, double sums[2],
+               Counts& cnt) const {
+    sums[0] = sums[1] = 0.0;
+    if (!plane) {
+      layer.coverage.boxSum(b.x0, b.y0, b.x1, b.y1, sums);
+      return;
+    }
+    const Query q{b, BlockerPlane{plane->tapPlane()}};
+    // The coarsest level whose blocks the box spans at most 2 x 2 of, then down.
+    int level = 0;
+    while (level + 1 < layer.nearest.levels() &&
+           std::max(b.x1 - b.x0, b.y1 - b.y0) > static_cast<double>(1 << level))
+      ++level;
+    const int c0 = static_cast<int>(b.x0) >> level, c1 = (static_cast<int>(std::ceil(b.x1)) - 1) >> level;
+    const int r0 = static_cast<int>(b.y0) >> level, r1 = (static_cast<int>(std::ceil(b.y1)) - 1) >> level;
+    const uint64_t refined = cnt.blocks;
+    for (int j = r0; j <= r1; ++j)
+      for (int i = c0; i <= c1; ++i) visit(layer, q, level, i, j, sums, cnt);
+    if (cnt.blocks == refined) ++cnt.settled;
+  }
+
+  struct Query {
+    Box box;
+    BlockerPlane plane;
+  };
+
+  // Tangent coordinates of texel coordinates.
+  float tanX(double x) const {
+    return view_.tanLo.x +
+           static_cast<float>(x) * (view_.tanHi.x - view_.tanLo.x) / static_cast<float>(view_.width);
+  }
+  float tanY(double y) const {
+    return view_.tanHi.y -
+           static_cast<float>(y) * (view_.tanHi.y - view_.tanLo.y) / static_cast<float>(view_.height);
+  }
+
+  // Adds to sums the covered area (and stored values) nearer than the plane of block (i, j) of
+  // `level` inside the box.
+  void visit(const Layer& layer, const Query& q, int level, int i, int j, double sums[2], Counts& cnt) const {
+    const Box& b = q.box;
+    const double bx0 = std::max(b.x0, static_cast<double>(i << level));
+    const double bx1 = std::min(b.x1, static_cast<double>(std::min((i + 1) << level, view_.width)));
+    const double by0 = std::max(b.y0, static_cast<double>(j << level));
+    const double by1 = std::min(b.y1, static_cast<double>(std::min((j + 1) << level, view_.height)));
+    if (!(bx0 < bx1) || !(by0 < by1)) return;
+    const auto l = static_cast<size_t>(level);
+    const float sNear = layer.nearest.maxs[l].at(i, j);
+    if (!(sNear > 0.0f)) return;  // nothing covered
+    // The plane's thresholds over the block's part of the box (linear: extremes at its corners).
+    const float u0 = tanX(bx0), u1 = tanX(bx1), w0 = tanY(by0), w1 = tanY(by1);
+    const float t00 = q.plane.threshold(u0, w0), t01 = q.plane.threshold(u0, w1);
+    const float t10 = q.plane.threshold(u1, w0), t11 = q.plane.threshold(u1, w1);
+    const float tMin = std::min(std::min(t00, t01), std::min(t10, t11));
+    const float tMax = std::max(std::max(t00, t01), std::max(t10, t11));
+    if (!(sNear > tMin)) return;  // every covered texel behind the plane
+    if (layer.farthest.mins[l].at(i, j) > tMax || level == 0) {
+      // Every covered texel nearer than the plane (a texel: tested at its centre, as PCF's taps).
+      if (level == 0 && !(sNear > q.plane.threshold(tanX(i + 0.5), tanY(j + 0.5)))) return;
+      double part[2];
+      layer.coverage.boxSum(bx0, by0, bx1, by1, part);
+      sums[0] += part[0], sums[1] += part[1];
+      return;
+    }
+    ++cnt.blocks;
+    const int cw = layer.nearest.maxs[l - 1].width(), ch = layer.nearest.maxs[l - 1].height();
+    for (int cj = 2 * j; cj < std::min(2 * j + 2, ch); ++cj)
+      for (int ci = 2 * i; ci < std::min(2 * i + 2, cw); ++ci) {
+        if (level == 1) ++cnt.texels;
+        visit(layer, q, level - 1, ci, cj, sums, cnt);
+      }
+  }
+
+  LightView view_;
+  glm::vec2 margin_{0.0f};
+  BiasParams bias_;
+  int layers_ = 8;
+  bool planeTest_ = true, occluderDepth_ = true, fromMap_ = false, sumFusion_ = false;
+  std::vector<float> bounds_;
+  std::vector<CasterDraw> draws_;
+  size_t binned_ = 0, split_ = 0;
+  raster::ImageFloat transmission_;
+};
+
+}  // namespace
+
+TechniqueInfo occtexTechnique() {
+  std::vector<ParamSpec> p = depthMapParams(512, 0.5, 0.5);
+  p.push_back({.name = "layers",
+               .kind = ParamKind::Int,
+               .defaultValue = 8,
+               .minValue = 1,
+               .maxValue = 64,
+               .choices = {},
+               .help = "slabs parallel to the light, uniform in 1/depth, one coverage texture each"});
+  p.push_back(
+      choiceParam("plane_test", 1, {"off", "on"},
+                  "count only covered texels nearer the light than the receiver's tangent plane (off: the "
+                  "paper's box filter of whole layers in front of the receiver)"));
+  p.push_back(
+      choiceParam("slices", 0, {"render", "map"},
+                  "each layer rendered from its slab's casters (the paper: occluders hidden from the light's "
+                  "centre count), or one depth map's texels dealt to the layers by depth (only what the "
+                  "centre sees: no solid counted twice)"));
+  p.push_back(
+      choiceParam("fusion", 0, {"product", "sum"},
+                  "the layers' occlusions combined as independent (V the product of the transmissions, the "
+                  "paper) or as disjoint (V = 1 - their sum, clamped)"));
+  p.push_back(
+      choiceParam("layer_depth", 1, {"slab", "occluders"},
+                  "the depth a layer's footprint is taken at: the middle of the slab's part in front of the "
+                  "receiver, or the mean depth of its covered texels there (a blocker search per layer)"));
+  return {.name = "occtex",
+          .summary =
+              "occlusion textures: the casters in layers parallel to the light, each a pre-filtered coverage "
+              "texture, transmissions multiplied",
+          .params = std::move(p),
+          .benchSettings = {"layers=4", "", "layers=16", "slices=map", "slices=map,fusion=sum",
+                            "layer_depth=slab", "plane_test=off"},
+          .isReference = false,
+          .make = [] { return std::make_unique<OcclusionTextures>(); },
+          // One layer at a time over the widened map (up to 2 map_size per side): its depth target,
+          // two float images and the two-channel coverage plane (20 B), the integer table (16 B)
+          // and two min/max pyramids (about 22 B) per texel, with slices=map the full map (4 B);
+          // each caster's indices once or twice.
+          .peakBytes = [](const ParamSet& params, uint64_t casterTriangles) -> uint64_t {
+            const auto side = 2 * static_cast<uint64_t>(params.integer("map_size"));
+            return side * side * 62 + casterTriangles * 24;
+          }};
+}
+
+}  // namespace penumbra::shadows
