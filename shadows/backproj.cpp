@@ -82,10 +82,52 @@ inline void orShifted(const uint64_t* ge, int a, int b, int s, uint64_t* out) {
 }
 
 struct Counts {
-  uint64_t searched = 0, texels = 0, patches = 0, lit = 0, blocked = 0, capped = 0;
+  uint64_t searched = 0, texels = 0, patches = 0, lit = 0, blocked = 0, capped = 0, lone = 0;
 };
 
 enum class Occlusion { Bitmask, Area };
+
+// A vertex of the microquad grid: a blocker texel's centre projected onto the light, in its uv.
+struct Corner {
+  double u = 0, v = 0;
+  bool blocker = false;
+};
+
+// The area of triangle abc inside the unit square (Sutherland-Hodgman against its four sides).
+inline double clippedArea(const Corner& a, const Corner& b, const Corner& c) {
+  std::array<std::array<double, 2>, 8> poly{}, next{};
+  poly[0] = {a.u, a.v}, poly[1] = {b.u, b.v}, poly[2] = {c.u, c.v};
+  int n = 3;
+  for (int side = 0; side < 4 && n > 0; ++side) {
+    const int axis = side / 2;
+    const double bound = side % 2;  // sides u >= 0, u <= 1, v >= 0, v <= 1
+    auto inside = [&](const std::array<double, 2>& p) { return side % 2 ? p[axis] <= bound : p[axis] >= bound; };
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+      const auto& p = poly[static_cast<size_t>(k)];
+      const auto& r = poly[static_cast<size_t>((k + 1) % n)];
+      if (inside(p)) next[static_cast<size_t>(m++)] = p;
+      if (inside(p) != inside(r)) {
+        const double t = (bound - p[axis]) / (r[axis] - p[axis]);
+        next[static_cast<size_t>(m++)] = {p[0] + t * (r[0] - p[0]), p[1] + t * (r[1] - p[1])};
+      }
+    }
+    poly = next, n = m;
+  }
+  double twice = 0;
+  for (int k = 0; k < n; ++k) {
+    const auto& p = poly[static_cast<size_t>(k)];
+    const auto& r = poly[static_cast<size_t>((k + 1) % n)];
+    twice += p[0] * r[1] - r[0] * p[1];
+  }
+  return 0.5 * std::abs(twice);
+}
+
+// Twice the signed area of the triangle abc (counter-clockwise positive).
+inline double cross(const Corner& a, const Corner& b, double u, double v) {
+  return (b.u - a.u) * (v - a.v) - (b.v - a.v) * (u - a.u);
+}
+
 
 class Backproj final : public Technique {
  public:
@@ -98,6 +140,8 @@ class Backproj final : public Technique {
     cap_ = params.integer("search_cap");
     minMax_ = params.choice("minmax") == "on";
     gapFill_ = params.choice("gap_fill") == "on";
+    quads_ = params.choice("micro") != "patches";
+    outline_ = params.choice("micro") == "quads_outline";
     // The map must hold every occluder a receiver's search area reaches, not only what lies in
     // front of the receivers (widenedView).
     const WidenedView wide = widenedView(ctx, size);
@@ -109,7 +153,7 @@ class Backproj final : public Technique {
     if (occlusion_ == Occlusion::Bitmask) bits_ = LightBits(samples_);
     ctx.times.msFilter += msSince(t1);
     ctx.notes.push_back("backproj: 1 depth map " + std::to_string(map_.view.width) + "x" + std::to_string(map_.view.height) + wide.note +
-                        ", micropatches, " +
+                        (quads_ ? (outline_ ? ", microquads and outline micropatches, " : ", microquads, ") : ", micropatches, ") +
                         (occlusion_ == Occlusion::Area
                              ? std::string("area accumulation")
                              : "bitmask of " + std::to_string(samples_) + " light samples") +
@@ -150,18 +194,26 @@ class Backproj final : public Technique {
     Counts sum;
     counts.combine_each([&](const Counts& c) {
       sum.searched += c.searched, sum.texels += c.texels, sum.patches += c.patches;
-      sum.lit += c.lit, sum.blocked += c.blocked, sum.capped += c.capped;
+      sum.lit += c.lit, sum.blocked += c.blocked, sum.capped += c.capped, sum.lone += c.lone;
     });
     const double n = static_cast<double>(std::max<uint64_t>(sum.searched, 1));
-    char line[320];
+    char line[400];
     std::snprintf(
         line, sizeof line,
-        "backproj: %llu receivers searched, %.1f texels and %.1f micropatches each; %llu lit and %llu "
+        "backproj: %llu receivers searched, %.1f texels and %.1f %s each; %llu lit and %llu "
         "blocked by the min/max test without micro-occluders; %llu over the search cap (coarser level)",
         static_cast<unsigned long long>(sum.searched), static_cast<double>(sum.texels) / n,
-        static_cast<double>(sum.patches) / n, static_cast<unsigned long long>(sum.lit),
-        static_cast<unsigned long long>(sum.blocked), static_cast<unsigned long long>(sum.capped));
+        static_cast<double>(sum.patches) / n, quads_ ? "microtriangles (2 per quad)" : "micropatches",
+        static_cast<unsigned long long>(sum.lit), static_cast<unsigned long long>(sum.blocked),
+        static_cast<unsigned long long>(sum.capped));
     ctx.notes.push_back(line);
+    if (quads_) {
+      std::snprintf(line, sizeof line,
+                    "backproj: %llu blocker texels in no microquad or microtriangle (lines and points one texel "
+                    "wide) taken as micropatches",
+                    static_cast<unsigned long long>(sum.lone));
+      ctx.notes.push_back(line);
+    }
   }
 
  private:
@@ -207,6 +259,8 @@ class Backproj final : public Technique {
     int level = 0;
     while (std::max(c1 - c0, r1 - r0) > (cap_ << level) && level + 1 < pyramid_.levels()) ++level;
     if (level > 0) ++c.capped;
+    thread_local std::vector<uint64_t> level0;
+    level0.clear();
     Search<W> q{.plane = blocker,
                 .c = c,
                 .mask = mask,
@@ -221,10 +275,16 @@ class Backproj final : public Technique {
                 .invW = 1.0f / ctx.in.light.width,
                 .invH = 1.0f / ctx.in.light.height,
                 .sx = sx,
-                .sy = sy};
+                .sy = sy,
+                .level0 = &level0};
     for (int j = r0 >> level; j <= (r1 - 1) >> level; ++j)
       for (int i = c0 >> level; i <= (c1 - 1) >> level; ++i)
         if (visit<W>(q, level, i, j)) return 0.0f;
+    if (quads_) {  // the level-0 blockers' quads, once the set of them is known (microquads)
+      std::sort(level0.begin(), level0.end());
+      for (const uint64_t key : level0)
+        if (microquads<W>(q, static_cast<int>(key & 0xffffffffu), static_cast<int>(key >> 32))) return 0.0f;
+    }
     if constexpr (W == 0) return std::max(0.0f, 1.0f - q.area);
     return visible<W>(q.mask.data());
   }
@@ -237,6 +297,7 @@ class Backproj final : public Technique {
     std::array<uint64_t, (W > 0 ? W : 1)> mask;
     float tx, ty, bx0, bx1, by0, by1, drNear, dr, invW, invH;
     int sx, sy;
+    std::vector<uint64_t>* level0;  // micro=quads: the level-0 blocker texels visited, as keys
     float area = 0.0f;
   };
 
@@ -246,21 +307,15 @@ class Backproj final : public Technique {
   // by PCF's test at its centre. True once the light is wholly covered.
   template <int W>
   bool visit(Search<W>& q, int level, int i, int j) const {
-    const LightView& view = map_.view;
     ++q.c.texels;
     const auto l = static_cast<size_t>(level);
     const float sMax = pyramid_.maxs[l].at(i, j), sMin = pyramid_.mins[l].at(i, j);
-    const int colLeft = i << level, colRight = std::min((i + 1) << level, view.width);
-    const int rowTop = j << level, rowBottom = std::min((j + 1) << level, view.height);
-    const float dtx = (view.tanHi.x - view.tanLo.x) / static_cast<float>(view.width);
-    const float dty = (view.tanHi.y - view.tanLo.y) / static_cast<float>(view.height);
-    float txLeft = view.tanLo.x + static_cast<float>(colLeft) * dtx;
-    float txRight = view.tanLo.x + static_cast<float>(colRight) * dtx;
-    float tyTop = view.tanHi.y - static_cast<float>(rowTop) * dty;
-    float tyBottom = view.tanHi.y - static_cast<float>(rowBottom) * dty;
+    const TexelBox box = texelBox(level, i, j);
+    const float txLeft = box.txLeft, txRight = box.txRight, tyTop = box.tyTop, tyBottom = box.tyBottom;
     float s = sMax;
     if (level == 0) {
       if (!(s > q.plane.threshold(0.5f * (txLeft + txRight), 0.5f * (tyTop + tyBottom)))) return false;
+      if (quads_) return q.level0->push_back(texelKey(i, j)), false;
     } else {
       const float t00 = q.plane.threshold(txLeft, tyTop), t10 = q.plane.threshold(txRight, tyTop);
       const float t01 = q.plane.threshold(txLeft, tyBottom), t11 = q.plane.threshold(txRight, tyBottom);
@@ -277,6 +332,31 @@ class Backproj final : public Technique {
       // stored near / depth).
       s = W == 0 ? 0.5f * (sMin + sMax) : sMin;
     }
+    return patch<W>(q, level, i, j, s, level == 0 || W == 0 ? s : sMax);
+  }
+
+  // Texel (i, j) of `level` in tangent units: its left, right, top and bottom edges.
+  struct TexelBox {
+    float txLeft, txRight, tyTop, tyBottom;
+  };
+  TexelBox texelBox(int level, int i, int j) const {
+    const LightView& view = map_.view;
+    const int colLeft = i << level, colRight = std::min((i + 1) << level, view.width);
+    const int rowTop = j << level, rowBottom = std::min((j + 1) << level, view.height);
+    const float dtx = (view.tanHi.x - view.tanLo.x) / static_cast<float>(view.width);
+    const float dty = (view.tanHi.y - view.tanLo.y) / static_cast<float>(view.height);
+    return {view.tanLo.x + static_cast<float>(colLeft) * dtx, view.tanLo.x + static_cast<float>(colRight) * dtx,
+            view.tanHi.y - static_cast<float>(rowTop) * dty, view.tanHi.y - static_cast<float>(rowBottom) * dty};
+  }
+
+  // The micropatch of texel (i, j) of `level`, a blocker at stored depth s (near / z); sNear >= s
+  // the nearest of a coarse texel's blockers, whose square's projection the patch covers as well.
+  template <int W>
+  bool patch(Search<W>& q, int level, int i, int j, float s, float sNear) const {
+    const LightView& view = map_.view;
+    auto [txLeft, txRight, tyTop, tyBottom] = texelBox(level, i, j);
+    const int colLeft = i << level, colRight = std::min((i + 1) << level, view.width);
+    const int rowTop = j << level, rowBottom = std::min((j + 1) << level, view.height);
     // The map's edge texels stand for what lies beyond it, as a clamped lookup reads them (every
     // technique here does): they reach to the search area's edge. Right for a surface that leaves
     // the map (a wall beside the light); an occluder that covers the whole map grows with it.
@@ -291,7 +371,7 @@ class Backproj final : public Technique {
     // the bounding rectangle of its square's projections at both (its texels' patches lie between
     // them: their union is covered, a little more where the depth varies; no crack opens inside).
     const float f = q.drNear / denom;  // d_r z / (d_r - z)
-    const float g = level == 0 || W == 0 ? f : q.drNear / (q.dr * sMax - view.znear);
+    const float g = sNear == s ? f : q.drNear / (q.dr * sNear - view.znear);
     auto lo = [&](float t, float tp, float inv) { return std::min(f * (t - tp), g * (t - tp)) * inv + 0.5f; };
     auto hi = [&](float t, float tp, float inv) { return std::max(f * (t - tp), g * (t - tp)) * inv + 0.5f; };
     float u0 = lo(txLeft, q.tx, q.invW), u1 = hi(txRight, q.tx, q.invW);
@@ -338,15 +418,142 @@ class Backproj final : public Technique {
     const auto l = static_cast<size_t>(level);
     const raster::ImageFloat& mx = pyramid_.maxs[l];
     if (i < 0 || j < 0 || i >= mx.width() || j >= mx.height()) return 0.0f;
-    const LightView& view = map_.view;
-    const float cx = 0.5f * static_cast<float>((i << level) + std::min((i + 1) << level, view.width));
-    const float cy = 0.5f * static_cast<float>((j << level) + std::min((j + 1) << level, view.height));
-    const float tx = view.tanLo.x + cx * (view.tanHi.x - view.tanLo.x) / static_cast<float>(view.width);
-    const float ty = view.tanHi.y - cy * (view.tanHi.y - view.tanLo.y) / static_cast<float>(view.height);
-    const float sMax = mx.at(i, j), threshold = q.plane.threshold(tx, ty);
+    const glm::vec2 t = centre(level, i, j);
+    const float sMax = mx.at(i, j), threshold = q.plane.threshold(t.x, t.y);
     if (!(sMax > threshold)) return 0.0f;
     const float sMin = pyramid_.mins[l].at(i, j);
     return sMin > threshold ? sMin : sMax;  // the farthest blocker depth it has, as far as known
+  }
+
+  // The centre of texel (i, j) of pyramid level `level`, in tangent units (the last texel of a
+  // level may be cut by the map's edge).
+  glm::vec2 centre(int level, int i, int j) const {
+    const LightView& view = map_.view;
+    const float cx = 0.5f * static_cast<float>((i << level) + std::min((i + 1) << level, view.width));
+    const float cy = 0.5f * static_cast<float>((j << level) + std::min((j + 1) << level, view.height));
+    return {view.tanLo.x + cx * (view.tanHi.x - view.tanLo.x) / static_cast<float>(view.width),
+            view.tanHi.y - cy * (view.tanHi.y - view.tanLo.y) / static_cast<float>(view.height)};
+  }
+
+  // Microquads (Schwarz & Stamminger 2008) around the level-0 blocker texel (i, j): the four quads
+  // between its centre and its neighbours' centres, each corner at its texel's depth and projected
+  // onto the light; a quad whose four corners are blockers is two triangles, one with three is the
+  // triangle of those (a microtriangle: an occluder's outline or a depth discontinuity). Quads
+  // share their edges, so no crack opens at any depth difference (gap filling is built in); the
+  // outline lies half a texel inside the micropatches'. micro=quads_outline: a texel with a
+  // non-blocker among its eight neighbours adds its micropatch, which puts the outline back where
+  // micropatches have it. A blocker texel in no quad or triangle (a line or point one texel wide,
+  // which quads would drop) is taken as its micropatch. Each quad with a visited level-0 blocker
+  // corner is emitted once, by the first such corner in row order (a quad whose blockers are all
+  // inside coarse texels taken whole is left to their rectangles, which gap filling joins; area
+  // accumulation sums outline patches over their quads). Beyond the map's edge a corner stands at
+  // the search area's edge with the edge texel's depth (as patch()). True once the light is wholly
+  // covered.
+  template <int W>
+  bool microquads(Search<W>& q, int i, int j) const {
+    std::array<Corner, 9> c;  // (di, dj) in [-1, 1]^2 at 3 (dj + 1) + di + 1
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) c[static_cast<size_t>(3 * (dj + 1) + di + 1)] = corner(q, i + di, j + dj);
+    bool used = false;
+    for (int qj = 0; qj < 2; ++qj)
+      for (int qi = 0; qi < 2; ++qi) {
+        const int k = 3 * qj + qi;
+        const Corner* around[4] = {&c[static_cast<size_t>(k)], &c[static_cast<size_t>(k + 1)],
+                                   &c[static_cast<size_t>(k + 4)], &c[static_cast<size_t>(k + 3)]};
+        const Corner* tri[4];
+        int n = 0;
+        for (const Corner* x : around)
+          if (x->blocker) tri[n++] = x;
+        if (n < 3) continue;
+        used = true;
+        // Once per quad: from its first corner in row order that is a visited blocker (this texel
+        // is at 4, the quad's corners at k, k + 1, k + 3, k + 4).
+        bool first = true;
+        for (int e : {k, k + 1, k + 3})
+          if (e < 4 && c[static_cast<size_t>(e)].blocker)
+            first &= !std::binary_search(q.level0->begin(), q.level0->end(),
+                                         texelKey(i + e % 3 - 1, j + e / 3 - 1));
+        if (!first) continue;
+        if (triangle<W>(q, *tri[0], *tri[1], *tri[2])) return true;
+        if (n == 4 && triangle<W>(q, *tri[0], *tri[2], *tri[3])) return true;
+      }
+    bool outline = false;
+    if (outline_)
+      for (const Corner& x : c) outline |= !x.blocker;
+    if (used && !outline) return false;
+    if (!used) ++q.c.lone;
+    const float s = pyramid_.maxs[0].at(i, j);
+    return patch<W>(q, 0, i, j, s, s);
+  }
+
+  // The sort key of map texel (i, j): row-major order (texels outside the map are never keys).
+  static uint64_t texelKey(int i, int j) {
+    return (static_cast<uint64_t>(static_cast<uint32_t>(j)) << 32) | static_cast<uint32_t>(i);
+  }
+
+  // Texel (i, j) of the map as a microquad corner: its centre projected from the receiver onto the
+  // light, where it is a blocker (blockerAt). Outside the map: the nearest edge texel's depth, at
+  // the search area's edge if that is farther out.
+  template <int W>
+  Corner corner(const Search<W>& q, int i, int j) const {
+    const LightView& view = map_.view;
+    Corner r;
+    const int ci = std::clamp(i, 0, view.width - 1), cj = std::clamp(j, 0, view.height - 1);
+    const float s = blockerAt(q, 0, ci, cj);
+    const float denom = q.dr * s - view.znear;
+    if (!(s > 0.0f) || !(denom > 0.0f)) return r;
+    const auto dtx = static_cast<double>(view.tanHi.x - view.tanLo.x) / view.width;
+    const auto dty = static_cast<double>(view.tanHi.y - view.tanLo.y) / view.height;
+    double tx = static_cast<double>(view.tanLo.x) + (i + 0.5) * dtx;
+    double ty = static_cast<double>(view.tanHi.y) - (j + 0.5) * dty;
+    if (i < 0) tx = std::min(tx, static_cast<double>(q.bx0));
+    if (i >= view.width) tx = std::max(tx, static_cast<double>(q.bx1));
+    if (j < 0) ty = std::max(ty, static_cast<double>(q.by1));
+    if (j >= view.height) ty = std::min(ty, static_cast<double>(q.by0));
+    const double f = static_cast<double>(q.drNear) / static_cast<double>(denom);
+    r.u = f * (tx - static_cast<double>(q.tx)) * static_cast<double>(q.invW) + 0.5;
+    r.v = f * (ty - static_cast<double>(q.ty)) * static_cast<double>(q.invH) + 0.5;
+    r.blocker = std::isfinite(r.u) && std::isfinite(r.v);
+    return r;
+  }
+
+  // Marks the light samples inside triangle abc (uv of the light), exactly: the samples of its
+  // bounding rectangle (the bin tables) not yet marked, each tested against its three edges in
+  // double. Area accumulation adds its area inside the light. True once the light is covered.
+  template <int W>
+  bool triangle(Search<W>& q, const Corner& a, const Corner& b, const Corner& c) const {
+    const double twice = cross(a, b, c.u, c.v);
+    if (!(std::abs(twice) > 0.0)) return false;
+    const double u0 = std::min({a.u, b.u, c.u}), u1 = std::max({a.u, b.u, c.u});
+    const double v0 = std::min({a.v, b.v, c.v}), v1 = std::max({a.v, b.v, c.v});
+    if (u1 <= 0.0 || u0 >= 1.0 || v1 <= 0.0 || v0 >= 1.0) return false;
+    ++q.c.patches;
+    if constexpr (W == 0) {
+      q.area += static_cast<float>(clippedArea(a, b, c));
+      return q.area >= 1.0f;
+    } else {
+      std::array<uint64_t, W> xs{}, ys{};
+      orShifted<W>(bits_.geX.data(), binAt(static_cast<float>(std::max(u0, 0.0))),
+                   binAt(static_cast<float>(std::min(u1, 1.0))), q.sx, xs.data());
+      orShifted<W>(bits_.geY.data(), binAt(static_cast<float>(std::max(v0, 0.0))),
+                   binAt(static_cast<float>(std::min(v1, 1.0))), q.sy, ys.data());
+      const double sign = twice > 0.0 ? 1.0 : -1.0;
+      uint64_t all = ~uint64_t{0};
+      for (size_t k = 0; k < static_cast<size_t>(W); ++k) {
+        uint64_t candidates = xs[k] & ys[k] & ~q.mask[k];
+        while (candidates != 0) {
+          const int bit = std::countr_zero(candidates);
+          candidates &= candidates - 1;
+          const size_t s = k * 64 + static_cast<size_t>(bit);
+          const double u = (static_cast<double>((bits_.qx[s] + q.sx) % kBins) + 0.5) / kBins;
+          const double v = (static_cast<double>((bits_.qy[s] + q.sy) % kBins) + 0.5) / kBins;
+          if (sign * cross(a, b, u, v) >= 0.0 && sign * cross(b, c, u, v) >= 0.0 && sign * cross(c, a, u, v) >= 0.0)
+            q.mask[k] |= uint64_t{1} << bit;
+        }
+        all &= q.mask[k];
+      }
+      return all == ~uint64_t{0};
+    }
   }
 
   // The unmarked fraction of the bitmask (W = 0: 1, area accumulation's start).
@@ -390,7 +597,7 @@ class Backproj final : public Technique {
   LightBits bits_{64};
   Occlusion occlusion_ = Occlusion::Bitmask;
   int samples_ = 256, cap_ = 32;
-  bool minMax_ = true, gapFill_ = true;
+  bool minMax_ = true, gapFill_ = true, quads_ = false, outline_ = false;
 };
 
 }  // namespace
@@ -406,6 +613,11 @@ TechniqueInfo backprojTechnique() {
   p.push_back(choiceParam("gap_fill", 1, {"off", "on"},
                           "extend each micropatch to its blocking neighbours' projections (closes the cracks between "
                           "patches at different depths; joins distinct occluders that touch in the map)"));
+  p.push_back(choiceParam("micro", 0, {"patches", "quads", "quads_outline"},
+                          "micro-occluders: each blocker texel's square at its depth (micropatches); quads between "
+                          "neighbouring blocker texels' centres, triangles where one of four is not (microquads: "
+                          "no cracks, the outline half a texel in); or microquads with the outline texels' "
+                          "patches (the outline where micropatches put it). gap_fill applies to patches only"));
   p.push_back(choiceParam("minmax", 1, {"off", "on"},
                           "settle receivers whose search area is uniformly lit (same V) or blocked (V = 0, where the "
                           "micropatches may leave cracks) by the min/max pyramid"));
@@ -414,7 +626,7 @@ TechniqueInfo backprojTechnique() {
               "backprojection soft shadow mapping: micropatches from one depth map projected onto the light, "
               "occlusion bitmask",
           .params = std::move(p),
-          .benchSettings = {"samples=64", "", "samples=1024", "occlusion=area", "gap_fill=off",
+          .benchSettings = {"samples=64", "", "samples=1024", "occlusion=area", "gap_fill=off", "micro=quads", "micro=quads_outline,gap_fill=off",
                             "search_cap=16", "search_cap=64"},
           .isReference = false,
           .make = [] { return std::make_unique<Backproj>(); },

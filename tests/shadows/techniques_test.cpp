@@ -265,7 +265,11 @@ TEST(Techniques, BackprojectionMatchesTheAnalyticPenumbra) {
                {"occlusion=area", 0.001, 0.004},  // one occluder: no overlap to over-count
                {"search_cap=8", 0.0035, 0.09},    // level 4 and down, mixed texels refined
                {"search_cap=4096", 0.0025, 0.036},
-               {"minmax=off", 0.0025, 0.036}});
+               {"minmax=off", 0.0025, 0.036},
+               {"micro=quads", 0.0025, 0.036},
+               {"micro=quads_outline", 0.0025, 0.036},
+               {"micro=quads,occlusion=area", 0.001, 0.004},
+               {"micro=quads,search_cap=8", 0.0035, 0.09}});
 }
 
 TEST(Techniques, SssmMatchesTheAnalyticPenumbra) {
@@ -435,6 +439,29 @@ TEST(Techniques, SssmMotionBlurredShadows) {
       ASSERT_EQ(std::bit_cast<uint32_t>(a.at(i, j)), std::bit_cast<uint32_t>(b.at(i, j)));
 }
 
+// Two occluders under the light (1 x 1 at height 4): the half-plane x < 0 at height 2 and the
+// half-plane z < 0 at height 1; receivers on y = 0 at x in [0.02, 0.42], z in [-0.12, 0.12]. Each
+// hides a band of the light: a = x + 0.5 is left by the upper one, b = 3 z + 0.5 by the lower one.
+struct TwoOccluders {
+  static constexpr int kN = 16;
+  std::vector<glm::vec3> positions = {{-20, 2, -20}, {0, 2, -20},  {0, 2, 20}, {-20, 2, 20},
+                                      {-20, 1, -20}, {20, 1, -20}, {20, 1, 0}, {-20, 1, 0}};
+  std::vector<uint32_t> indices = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+  ReceiverImage receivers{kN, kN};
+  ShadowInputs in;
+
+  TwoOccluders() {
+    for (int j = 0; j < kN; ++j)
+      for (int i = 0; i < kN; ++i)
+        receivers.at(i, j) = {{static_cast<float>(at(i)), 0.0f, static_cast<float>(atZ(j))}, {0, 1, 0}, 1};
+    makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, in.light);
+    in.casters = {positions, indices};
+    in.receivers = &receivers;
+  }
+  static double at(int i) { return 0.02 + 0.4 * (i + 0.5) / kN; }
+  static double atZ(int j) { return -0.12 + 0.24 * (j + 0.5) / kN; }
+};
+
 TEST(Techniques, BackprojectionBitmaskCountsAnOverlapOnce) {
   // Two occluders each hiding a band of the light, overlapping as the receivers see them: the
   // half-plane x < 0 at height 2 (it leaves the light's x_l >= -x, a fraction a = x + 0.5) and
@@ -443,43 +470,44 @@ TEST(Techniques, BackprojectionBitmaskCountsAnOverlapOnce) {
   // that matters: the part of it at x >= 0 (the upper one hides the rest), which hides the light's
   // band z_l < -3 z only at x_l >= -3 x. Summing the two areas counts their overlap
   // (-3 x <= x_l < -x) twice: V = 1 - (1 - a) - (1 - b) min(1, 3 x + 0.5), clamped at 0.
-  constexpr int kN = 16;
-  std::vector<glm::vec3> positions = {{-20, 2, -20}, {0, 2, -20},  {0, 2, 20}, {-20, 2, 20},
-                                      {-20, 1, -20}, {20, 1, -20}, {20, 1, 0}, {-20, 1, 0}};
-  std::vector<uint32_t> indices = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
-  ReceiverImage receivers(kN, kN);
-  auto at = [](int i) { return 0.02 + 0.4 * (i + 0.5) / kN; };
-  auto atZ = [](int j) { return -0.12 + 0.24 * (j + 0.5) / kN; };
-  for (int j = 0; j < kN; ++j)
-    for (int i = 0; i < kN; ++i)
-      receivers.at(i, j) = {{static_cast<float>(at(i)), 0.0f, static_cast<float>(atZ(j))}, {0, 1, 0}, 1};
-  ShadowInputs in;
-  ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, in.light));
-  in.casters = {positions, indices};
-  in.receivers = &receivers;
-  const raster::ImageFloat bits = run(*findTechnique("backproj"), in, 2, "samples=1024,map_size=1024");
+  TwoOccluders t;
+  const raster::ImageFloat bits = run(*findTechnique("backproj"), t.in, 2, "samples=1024,map_size=1024");
   // Without gap filling (it extends the patches where the two occluders meet in the map, which
   // area accumulation counts twice as well) and without coarse texels (one patch at a mean depth).
   const raster::ImageFloat area =
-      run(*findTechnique("backproj"), in, 2, "occlusion=area,gap_fill=off,search_cap=4096,map_size=1024");
-  double bitErr = 0, areaErr = 0, areaDark = 0, overlap = 0;
-  for (int j = 0; j < kN; ++j)
-    for (int i = 0; i < kN; ++i) {
-      const double a = std::clamp(at(i) + 0.5, 0.0, 1.0), b = std::clamp(3.0 * atZ(j) + 0.5, 0.0, 1.0);
-      const double exact = a * b, summed = std::max(0.0, a - (1.0 - b) * std::min(1.0, 3.0 * at(i) + 0.5));
+      run(*findTechnique("backproj"), t.in, 2, "occlusion=area,gap_fill=off,search_cap=4096,map_size=1024");
+  // Microquads: the two occluders' texels meet in the map along the upper one's edge, where the
+  // quads between them are steep walls from one height to the other, inside the upper one's shadow
+  // (its edge x = 0 is where the lower one's texels begin).
+  const raster::ImageFloat quads =
+      run(*findTechnique("backproj"), t.in, 2, "samples=1024,map_size=1024,micro=quads");
+  double bitErr = 0, quadErr = 0, areaErr = 0, areaDark = 0, overlap = 0;
+  for (int j = 0; j < TwoOccluders::kN; ++j)
+    for (int i = 0; i < TwoOccluders::kN; ++i) {
+      const double a = std::clamp(t.at(i) + 0.5, 0.0, 1.0), b = std::clamp(3.0 * t.atZ(j) + 0.5, 0.0, 1.0);
+      const double exact = a * b, summed = std::max(0.0, a - (1.0 - b) * std::min(1.0, 3.0 * t.at(i) + 0.5));
       bitErr += std::abs(static_cast<double>(bits.at(i, j)) - exact);
+      quadErr += std::abs(static_cast<double>(quads.at(i, j)) - exact);
       areaErr += std::abs(static_cast<double>(area.at(i, j)) - summed);
       areaDark += exact - static_cast<double>(area.at(i, j));
       overlap += exact - summed;
     }
-  const double n = kN * kN;
+  const double n = TwoOccluders::kN * TwoOccluders::kN;
   std::printf(
-      "overlap: bitmask mean |V - ab| %.4f; area mean |V - summed| %.4f, darker by %.4f (overlap %.4f)\n",
-      bitErr / n, areaErr / n, areaDark / n, overlap / n);
+      "overlap: bitmask mean |V - ab| %.4f (microquads %.4f); area mean |V - summed| %.4f, darker by %.4f "
+      "(overlap %.4f)\n",
+      bitErr / n, quadErr / n, areaErr / n, areaDark / n, overlap / n);
   EXPECT_LT(bitErr / n, 0.005);                   // measured 0.0029
+  EXPECT_LT(quadErr / n, 0.005);
   EXPECT_LT(areaErr / n, 0.004);                  // measured 0.0012
   EXPECT_NEAR(areaDark / n, overlap / n, 0.004);  // 0.0939 against 0.0927
   EXPECT_GT(overlap / n, 0.05);                   // the case does overlap
+  // Microquads' exact triangle tests give the same bits at any thread count.
+  const raster::ImageFloat one = run(*findTechnique("backproj"), t.in, 1, "micro=quads,samples=256");
+  const raster::ImageFloat three = run(*findTechnique("backproj"), t.in, 3, "micro=quads,samples=256");
+  for (int j = 0; j < TwoOccluders::kN; ++j)
+    for (int i = 0; i < TwoOccluders::kN; ++i)
+      ASSERT_EQ(std::bit_cast<uint32_t>(one.at(i, j)), std::bit_cast<uint32_t>(three.at(i, j)));
 }
 
 TEST(Techniques, BackprojectionGapFillingClosesTheCracksOfASteepOccluder) {
@@ -520,6 +548,13 @@ TEST(Techniques, BackprojectionGapFillingClosesTheCracksOfASteepOccluder) {
     std::printf("steep wall, %s: mean V %.4f without gap filling, %.4f with\n", c.level, off, on);
     EXPECT_GT(off, c.leak) << c.level;
     EXPECT_LT(on, 0.001) << c.level;
+  }
+  // Microquads join the texel centres whatever their depths: no crack to fill at level 0 (coarse
+  // texels taken whole are rectangles, which gap filling joins as above).
+  for (const char* micro : {"micro=quads", "micro=quads_outline"}) {
+    const double quads = meanV(std::string(micro) + ",gap_fill=off,minmax=off,search_cap=4096");
+    std::printf("steep wall, %s without gap filling: mean V %.4f\n", micro, quads);
+    EXPECT_LT(quads, 0.001) << micro;
   }
 }
 
@@ -576,27 +611,15 @@ TEST(Techniques, OcclusionTexturesMultiplyTheLayersAndLeakThroughASplitWall) {
   // the product ab is the exact V. A wall split across layers (x = 0.6 from y = -1 to 3.5, as in
   // the gap-filling test, where V = 0 exactly): its parts hide disjoint bands of the light, the
   // product of their transmissions leaks -- the failure the note counts, more with more layers.
-  constexpr int kN = 16;
   {
-    std::vector<glm::vec3> positions = {{-20, 2, -20}, {0, 2, -20},  {0, 2, 20}, {-20, 2, 20},
-                                        {-20, 1, -20}, {20, 1, -20}, {20, 1, 0}, {-20, 1, 0}};
-    std::vector<uint32_t> indices = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
-    ReceiverImage receivers(kN, kN);
-    auto at = [](int i) { return 0.02 + 0.4 * (i + 0.5) / kN; };
-    auto atZ = [](int j) { return -0.12 + 0.24 * (j + 0.5) / kN; };
-    for (int j = 0; j < kN; ++j)
-      for (int i = 0; i < kN; ++i)
-        receivers.at(i, j) = {{static_cast<float>(at(i)), 0.0f, static_cast<float>(atZ(j))}, {0, 1, 0}, 1};
-    ShadowInputs in;
-    ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, in.light));
-    in.casters = {positions, indices};
-    in.receivers = &receivers;
+    TwoOccluders t;
+    constexpr int kN = TwoOccluders::kN;
     for (const char* params : {"layers=4,map_size=1024", "layers=16,map_size=1024"}) {
-      const raster::ImageFloat v = run(*findTechnique("occtex"), in, 2, params);
+      const raster::ImageFloat v = run(*findTechnique("occtex"), t.in, 2, params);
       double err = 0;
       for (int j = 0; j < kN; ++j)
         for (int i = 0; i < kN; ++i) {
-          const double a = std::clamp(at(i) + 0.5, 0.0, 1.0), b = std::clamp(3.0 * atZ(j) + 0.5, 0.0, 1.0);
+          const double a = std::clamp(t.at(i) + 0.5, 0.0, 1.0), b = std::clamp(3.0 * t.atZ(j) + 0.5, 0.0, 1.0);
           err += std::abs(static_cast<double>(v.at(i, j)) - a * b);
         }
       std::printf("occtex %s, two occluders in two layers: mean |V - ab| %.4f\n", params, err / (kN * kN));
