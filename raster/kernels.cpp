@@ -377,6 +377,65 @@ void queryMinMax(const MinMaxPyramid& pyramid, int x0, int y0, int x1, int y1, f
     }
 }
 
+// --- Min/max stack ------------------------------------------------------------------------------
+
+MinMaxStack buildMinMaxStack(const MinMaxPyramid& pyramid, int base) {
+  MinMaxStack st;
+  st.base = base;
+  if (base < 0 || base >= pyramid.levels()) return st;
+  st.width = pyramid.mins[0].width(), st.height = pyramid.mins[0].height();
+  st.mins.push_back(pyramid.mins[static_cast<size_t>(base)]);
+  st.maxs.push_back(pyramid.maxs[static_cast<size_t>(base)]);
+  const int w = st.mins[0].width(), h = st.mins[0].height();
+  // Level k + 1 from level k: the window at (i, j) is the four windows of level k at (i, j),
+  // (i + s, j), (i, j + s), (i + s, j + s), s = 2^k, those past the edge left out.
+  for (int s = 1; s < std::max(w, h); s *= 2) {
+    const ImageFloat &pmn = st.mins.back(), &pmx = st.maxs.back();
+    ImageFloat mn(w, h), mx(w, h);
+    forRows(h, kRowGrain, [&](int y) {
+      const bool down = y + s < h;
+      for (int x = 0; x < w; ++x) {
+        const bool right = x + s < w;
+        float a = pmn.at(x, y), b = pmx.at(x, y);
+        if (right) a = std::min(a, pmn.at(x + s, y)), b = std::max(b, pmx.at(x + s, y));
+        if (down) a = std::min(a, pmn.at(x, y + s)), b = std::max(b, pmx.at(x, y + s));
+        if (right && down) a = std::min(a, pmn.at(x + s, y + s)), b = std::max(b, pmx.at(x + s, y + s));
+        mn.at(x, y) = a, mx.at(x, y) = b;
+      }
+    });
+    st.mins.push_back(std::move(mn));
+    st.maxs.push_back(std::move(mx));
+  }
+  return st;
+}
+
+void queryMinMax(const MinMaxStack& stack, int x0, int y0, int x1, int y1, float& mn, float& mx, int* windows) {
+  mn = std::numeric_limits<float>::infinity();
+  mx = -std::numeric_limits<float>::infinity();
+  if (windows) *windows = 0;
+  if (stack.mins.empty()) return;
+  const int b = stack.base, w = stack.mins[0].width(), h = stack.mins[0].height();
+  if (!clampRect(stack.width, stack.height, x0, y0, x1, y1)) return;
+  // The grid texels touched, then the largest window that fits in both sides.
+  const int i0 = x0 >> b, i1 = std::min(((x1 - 1) >> b) + 1, w);
+  const int j0 = y0 >> b, j1 = std::min(((y1 - 1) >> b) + 1, h);
+  const int side = std::min(i1 - i0, j1 - j0);
+  int k = 0;
+  while (k + 1 < stack.levels() && (2 << k) <= side) ++k;
+  const int s = 1 << k;
+  const ImageFloat &mins = stack.mins[static_cast<size_t>(k)], &maxs = stack.maxs[static_cast<size_t>(k)];
+  // Windows at i0, i0 + s, ... and the last one flush with i1 (they overlap, which min/max allows).
+  for (int j = j0;; j = std::min(j + s, j1 - s)) {
+    for (int i = i0;; i = std::min(i + s, i1 - s)) {
+      mn = std::min(mn, mins.at(i, j));
+      mx = std::max(mx, maxs.at(i, j));
+      if (windows) ++*windows;
+      if (i + s >= i1) break;
+    }
+    if (j + s >= j1) break;
+  }
+}
+
 // --- Mip chain -----------------------------------------------------------------------------------
 
 std::vector<ImageFloat> mipChain(const ImageFloat& src) {

@@ -116,6 +116,28 @@ void queryMinMax(const MinMaxPyramid& pyramid, int x0, int y0, int x1, int y1, f
 // clamped to the image): covered = {x0, y0, x1, y1}, containing the query's rectangle.
 void queryMinMax(const MinMaxPyramid& pyramid, int x0, int y0, int x1, int y1, float& mn, float& mx, int covered[4]);
 
+// --- Min/max stack (multi-scale shadow map; hybrid Y shadow map) ---------------------------------
+// Over the grid of pyramid level `base` (texels of 2^base pixels; base 0: the pixels themselves):
+// mins[k] and maxs[k] are, at every grid texel (i, j), the min (max) of the 2^k x 2^k grid texels
+// [i, i + 2^k) x [j, j + 2^k) (cut at the grid's edge), for every k while 2^(k-1) is below the
+// grid's larger side: a stack of full-resolution images, not a pyramid (Schwarz & Stamminger
+// 2007's multi-scale shadow map at base 0; their hybrid Y shadow map keeps the pyramid's finest
+// `base` levels and this stack on level `base`). A rectangle of grid texels is the union of at most
+// ceil(w / 2^k) x ceil(h / 2^k) such windows with 2^k <= min(w, h): bounds exact over the grid
+// texels it touches, so tight where the pyramid's aligned texels are loose.
+struct MinMaxStack {
+  int base = 0, width = 0, height = 0;  // width and height: the pixels' (pyramid level 0)
+  std::vector<ImageFloat> mins, maxs;
+  int levels() const { return static_cast<int>(mins.size()); }
+};
+MinMaxStack buildMinMaxStack(const MinMaxPyramid& pyramid, int base);
+
+// Bounds of the pixels in [x0, x1) x [y0, y1) (clamped to the image): the exact min and max over
+// the grid texels the rectangle touches (its pixels exactly when base is 0). An empty rectangle or
+// stack gives mn = +inf, mx = -inf. `windows` (optional) receives the number of texels read.
+void queryMinMax(const MinMaxStack& stack, int x0, int y0, int x1, int y1, float& mn, float& mx,
+                 int* windows = nullptr);
+
 // --- Mip chain -----------------------------------------------------------------------------------
 // Box-filtered mips: level 0 is a copy of src, each texel of level k+1 the mean (in double, then
 // rounded to float) of its existing children. Children counts are 1, 2 or 4, so a constant image

@@ -87,6 +87,11 @@ struct Counts {
 
 enum class Occlusion { Bitmask, Area };
 
+// The structure bounding the search areas' depths: min/max pyramid (HSM), stack (MSSM), or the
+// pyramid's finest levels and a stack on level kYsmBase (YSM).
+enum class Bounds { Hsm, Mssm, Ysm };
+constexpr int kYsmBase = 2;
+
 // A vertex of the microquad grid: a blocker texel's centre projected onto the light, in its uv.
 struct Corner {
   double u = 0, v = 0;
@@ -142,6 +147,9 @@ class Backproj final : public Technique {
     gapFill_ = params.choice("gap_fill") == "on";
     quads_ = params.choice("micro") != "patches";
     outline_ = params.choice("micro") == "quads_outline";
+    search_ = params.choice("search") == "mssm" ? Bounds::Mssm
+              : params.choice("search") == "ysm" ? Bounds::Ysm
+                                                 : Bounds::Hsm;
     // The map must hold every occluder a receiver's search area reaches, not only what lies in
     // front of the receivers (widenedView).
     const WidenedView wide = widenedView(ctx, size);
@@ -149,7 +157,11 @@ class Backproj final : public Technique {
     renderDepthMap(ctx, map_);
     ctx.times.msMaps += msSince(t0);
     const auto t1 = Clock::now();
-    ctx.raster.run([&] { pyramid_ = raster::buildMinMaxPyramid(map_.depth.image()); });
+    ctx.raster.run([&] {
+      pyramid_ = raster::buildMinMaxPyramid(map_.depth.image());
+      stack_ = search_ == Bounds::Hsm ? raster::MinMaxStack{}
+                                      : raster::buildMinMaxStack(pyramid_, search_ == Bounds::Ysm ? kYsmBase : 0);
+    });
     if (occlusion_ == Occlusion::Bitmask) bits_ = LightBits(samples_);
     ctx.times.msFilter += msSince(t1);
     ctx.notes.push_back("backproj: 1 depth map " + std::to_string(map_.view.width) + "x" + std::to_string(map_.view.height) + wide.note +
@@ -157,7 +169,12 @@ class Backproj final : public Technique {
                         (occlusion_ == Occlusion::Area
                              ? std::string("area accumulation")
                              : "bitmask of " + std::to_string(samples_) + " light samples") +
-                        ", search cap " + std::to_string(cap_) + " texels");
+                        ", search cap " + std::to_string(cap_) + " texels, search areas bounded by " +
+                        (search_ == Bounds::Hsm   ? std::string("the min/max pyramid (HSM)")
+                         : search_ == Bounds::Mssm ? "the min/max stack (MSSM, " + std::to_string(stack_.levels()) + " levels)"
+                                                   : "the pyramid and, past " + std::to_string(2 << kYsmBase) +
+                                                         " texels, the stack on its level " + std::to_string(kYsmBase) +
+                                                         " (YSM)"));
   }
 
   void evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) override {
@@ -234,7 +251,7 @@ class Backproj final : public Technique {
     glm::vec2 half = halfLight * std::max(1.0f / view.znear - 1.0f / dr, 0.0f);
     for (int pass = 0; pass < 2; ++pass) {
       float mn, mx;
-      raster::queryMinMax(pyramid_, map_.column(tpx - half.x), map_.row(tpy + half.y),
+      bounds(map_.column(tpx - half.x), map_.row(tpy + half.y),
                           map_.column(tpx + half.x) + 1, map_.row(tpy - half.y) + 1, mn, mx);
       if (!(mx > 0.0f)) return visible<W>(mask.data());  // nothing drawn there
       half = halfLight * std::max(mx / view.znear - 1.0f / dr, 0.0f);
@@ -244,7 +261,7 @@ class Backproj final : public Technique {
     const BlockerPlane blocker{plane.tapPlane()};
     if (minMax_) {  // as testBox (shadow_map.h), with this plane
       float mn, mx;
-      raster::queryMinMax(pyramid_, c0, r0, c1, r1, mn, mx);
+      bounds(c0, r0, c1, r1, mn, mx);
       const float t00 = blocker.threshold(tpx - half.x, tpy - half.y),
                   t01 = blocker.threshold(tpx - half.x, tpy + half.y);
       const float t10 = blocker.threshold(tpx + half.x, tpy - half.y),
@@ -287,6 +304,16 @@ class Backproj final : public Technique {
     }
     if constexpr (W == 0) return std::max(0.0f, 1.0f - q.area);
     return visible<W>(q.mask.data());
+  }
+
+  // Depth bounds of the map texels [x0, x1) x [y0, y1): the pyramid's (HSM: at most 2 x 2 aligned
+  // texels, loose), the stack's (MSSM: exact), or the pyramid's for areas up to 2^(kYsmBase + 1)
+  // texels wide and the stack on level kYsmBase's for larger ones (YSM: exact to 2^kYsmBase texels).
+  void bounds(int x0, int y0, int x1, int y1, float& mn, float& mx) const {
+    if (search_ == Bounds::Hsm || (search_ == Bounds::Ysm && std::max(x1 - x0, y1 - y0) <= (2 << kYsmBase)))
+      raster::queryMinMax(pyramid_, x0, y0, x1, y1, mn, mx);
+    else
+      raster::queryMinMax(stack_, x0, y0, x1, y1, mn, mx);
   }
 
   // One receiver's search: its plane, position and search box (tangent units), what it has found.
@@ -594,6 +621,8 @@ class Backproj final : public Technique {
   ShadowMap map_;
   BiasParams bias_;
   raster::MinMaxPyramid pyramid_;
+  raster::MinMaxStack stack_;
+  Bounds search_ = Bounds::Hsm;
   LightBits bits_{64};
   Occlusion occlusion_ = Occlusion::Bitmask;
   int samples_ = 256, cap_ = 32;
@@ -618,6 +647,10 @@ TechniqueInfo backprojTechnique() {
                           "neighbouring blocker texels' centres, triangles where one of four is not (microquads: "
                           "no cracks, the outline half a texel in); or microquads with the outline texels' "
                           "patches (the outline where micropatches put it). gap_fill applies to patches only"));
+  p.push_back(choiceParam("search", 2, {"hsm", "mssm", "ysm"},
+                          "depth bounds of the search areas: min/max pyramid (HSM, cheap, loose), min/max stack "
+                          "(MSSM, exact, a full-size image per level), or both (YSM: the pyramid up to 8 texels, "
+                          "the stack on 4x4 texels beyond)"));
   p.push_back(choiceParam("minmax", 1, {"off", "on"},
                           "settle receivers whose search area is uniformly lit (same V) or blocked (V = 0, where the "
                           "micropatches may leave cracks) by the min/max pyramid"));
@@ -626,16 +659,20 @@ TechniqueInfo backprojTechnique() {
               "backprojection soft shadow mapping: micropatches from one depth map projected onto the light, "
               "occlusion bitmask",
           .params = std::move(p),
-          .benchSettings = {"samples=64", "", "samples=1024", "occlusion=area", "gap_fill=off", "micro=quads", "micro=quads_outline,gap_fill=off",
+          .benchSettings = {"samples=64", "", "samples=1024", "occlusion=area", "gap_fill=off", "micro=quads", "micro=quads_outline,gap_fill=off", "search=hsm", "search=mssm",
                             "search_cap=16", "search_cap=64"},
           .isReference = false,
           .make = [] { return std::make_unique<Backproj>(); },
           // The widened map (up to 2 map_size per side): depth, its render target and the min/max
-          // pyramid, 16 bytes per texel; the bitmask's suffix tables.
+          // pyramid, 16 bytes per texel; the stack, 8 bytes per texel and level (MSSM: one level
+          // per doubling of the side; YSM: on a grid 4x4 times smaller); the bitmask's tables.
           .peakBytes = [](const ParamSet& params, uint64_t) -> uint64_t {
             const auto side = 2 * static_cast<uint64_t>(params.integer("map_size"));
             const auto words = static_cast<uint64_t>(std::stoi(params.choice("samples")) / 64);
-            return side * side * 16 + 2 * (kBins + 1) * words * 8;
+            const std::string search = params.choice("search");
+            const uint64_t grid = search == "ysm" ? side >> kYsmBase : side;
+            const uint64_t stack = search == "hsm" ? 0 : grid * grid * 8 * (std::bit_width(grid) + 1);
+            return side * side * 16 + stack + 2 * (kBins + 1) * words * 8;
           }};
 }
 

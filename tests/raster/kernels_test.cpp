@@ -432,6 +432,51 @@ TEST(KernelsPyramid, QueryBoundsContainBruteForceAndAreExactForTexels) {
   EXPECT_EQ(mx, -std::numeric_limits<float>::infinity());
 }
 
+TEST(KernelsStack, QueriesAreExactOverTheGridTexelsTouched) {
+  // Base 0 (the multi-scale shadow map): exact min/max of the rectangle's pixels. Base 1 and 2 (the
+  // hybrid Y map's stack on a pyramid level): exact over the rectangle rounded out to that level's
+  // texels. Odd sizes, rectangles partly outside, thin and single-texel ones.
+  for (auto [w, h] : {std::pair{45, 29}, std::pair{16, 16}, std::pair{1, 9}, std::pair{70, 3}}) {
+    const ImageFloat src = randomImage(w, h, 81, -1.0f, 1.0f);
+    const MinMaxPyramid p = buildMinMaxPyramid(src);
+    for (int base = 0; base < std::min(3, p.levels()); ++base) {
+      SCOPED_TRACE(testing::Message() << w << "x" << h << " base " << base);
+      const MinMaxStack st = buildMinMaxStack(p, base);
+      ASSERT_GT(st.levels(), 0);
+      auto rects = testRects(w, h, 82);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) rects.push_back({x, y, x + 1, y + 1});
+      rects.push_back({0, 0, w, h});
+      rects.push_back({-5, -5, w + 5, h + 5});
+      for (const auto& r : rects) {
+        float mn = 0, mx = 0;
+        int windows = 0;
+        queryMinMax(st, r[0], r[1], r[2], r[3], mn, mx, &windows);
+        int x0 = std::clamp(r[0], 0, w), x1 = std::clamp(r[2], 0, w);
+        int y0 = std::clamp(r[1], 0, h), y1 = std::clamp(r[3], 0, h);
+        if (x0 >= x1 || y0 >= y1) {
+          EXPECT_EQ(mn, std::numeric_limits<float>::infinity());
+          EXPECT_EQ(mx, -std::numeric_limits<float>::infinity());
+          continue;
+        }
+        x0 = (x0 >> base) << base, y0 = (y0 >> base) << base;
+        x1 = std::min((((x1 - 1) >> base) + 1) << base, w), y1 = std::min((((y1 - 1) >> base) + 1) << base, h);
+        const auto [bmn, bmx] = bruteMinMax(src, x0, y0, x1, y1);
+        ASSERT_EQ(mn, bmn) << r[0] << "," << r[1] << " " << r[2] << "," << r[3];
+        ASSERT_EQ(mx, bmx) << r[0] << "," << r[1] << " " << r[2] << "," << r[3];
+        // A rectangle of a x b texels reads at most ceil(a / s) ceil(b / s) windows, s >= min(a, b) / 2.
+        const int a = ((x1 - 1) >> base) - (x0 >> base) + 1, b = ((y1 - 1) >> base) - (y0 >> base) + 1;
+        const int small = std::min(a, b), large = std::max(a, b);
+        EXPECT_LE(windows, 2 * ((2 * large + small - 1) / small)) << a << "x" << b;
+      }
+    }
+  }
+  float mn = 0, mx = 0;
+  queryMinMax(MinMaxStack{}, 0, 0, 4, 4, mn, mx);
+  EXPECT_EQ(mn, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(buildMinMaxStack(MinMaxPyramid{}, 0).levels(), 0);
+}
+
 TEST(KernelsMip, ConstantImageStaysConstantWithCeilSizes) {
   const ImageFloat src(13, 7, 0.1f);
   const std::vector<ImageFloat> mips = mipChain(src);

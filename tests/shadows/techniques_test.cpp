@@ -269,7 +269,44 @@ TEST(Techniques, BackprojectionMatchesTheAnalyticPenumbra) {
                {"micro=quads", 0.0025, 0.036},
                {"micro=quads_outline", 0.0025, 0.036},
                {"micro=quads,occlusion=area", 0.001, 0.004},
-               {"micro=quads,search_cap=8", 0.0035, 0.09}});
+               {"micro=quads,search_cap=8", 0.0035, 0.09},
+               {"search=mssm", 0.0025, 0.036},
+               {"search=hsm", 0.0025, 0.036}});
+}
+
+TEST(Techniques, BackprojectionSearchStructuresOnlyTightenTheSearchAreas) {
+  // The min/max stack (MSSM) bounds a search area's depths exactly, the pyramid (HSM) by up to 2 x 2
+  // aligned texels around it, YSM by the pyramid up to 8 texels and the stack on 4 x 4 texels
+  // beyond: tighter bounds give smaller areas (fewer texels visited) but the same micro-occluders
+  // inside the light's projection, so the same V at level 0.
+  EdgeCase c;
+  addGroundAndNearCaster(c);
+  const TechniqueInfo& t = *findTechnique("backproj");
+  auto texels = [&](const char* params, raster::ImageFloat& v) {
+    raster::Rasterizer raster({.threads = 2});
+    ParamSet p(t.params);
+    EXPECT_FALSE(p.setAll(params));
+    const ShadowResult res = computeShadows(raster, c.in, t, p);
+    v = res.visibility;
+    for (const std::string& n : res.notes) {
+      const size_t at = n.find(" receivers searched, ");
+      if (at != std::string::npos) return std::stod(n.substr(at + 21));
+    }
+    ADD_FAILURE() << "no search note";
+    return 0.0;
+  };
+  raster::ImageFloat hsm, mssm, ysm;
+  const double nh = texels("search_cap=4096,search=hsm", hsm), nm = texels("search_cap=4096,search=mssm", mssm);
+  const double ny = texels("search_cap=4096,search=ysm", ysm);
+  std::printf("texels visited per receiver: HSM %.1f, MSSM %.1f, YSM %.1f\n", nh, nm, ny);
+  EXPECT_LT(nm, nh);
+  EXPECT_LE(nm, ny);
+  EXPECT_LE(ny, nh);
+  for (int j = 0; j < EdgeCase::kH; ++j)
+    for (int i = 0; i < EdgeCase::kW; ++i) {
+      ASSERT_EQ(hsm.at(i, j), mssm.at(i, j)) << i << "," << j;
+      ASSERT_EQ(hsm.at(i, j), ysm.at(i, j)) << i << "," << j;
+    }
 }
 
 TEST(Techniques, SssmMatchesTheAnalyticPenumbra) {
