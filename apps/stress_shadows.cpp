@@ -5,6 +5,9 @@
 #include <cstdio>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
 
 #include "engine/report.h"
 #include "raster/sat.h"
@@ -31,13 +34,25 @@ struct Setup {
 
 constexpr int kN = 48;
 
+// A technique as the suite runs it: its registry entry and settings (empty: the defaults).
+struct StressTechnique {
+  const shadows::TechniqueInfo& info;
+  std::string settings;
+  std::string label() const { return settings.empty() ? info.name : info.name + " " + settings; }
+  shadows::ParamSet params() const {
+    shadows::ParamSet p(info.params);
+    if (const auto error = p.setAll(settings)) throw std::logic_error("stress variant " + label() + ": " + *error);
+    return p;
+  }
+};
+
 // Where the segment from receiver (x, 0, z) to light point (lx, h, lz) crosses height y.
 glm::vec2 crossing(float x, float z, float lx, float lz, float h, float y) {
   const float t = y / h;
   return {x + (lx - x) * t, z + (lz - z) * t};
 }
 
-ShadowStressRow runCase(raster::Rasterizer& rast, const shadows::TechniqueInfo& info, const std::string& name,
+ShadowStressRow runCase(raster::Rasterizer& rast, const StressTechnique& info, const std::string& name,
                         const std::string& param, const Setup& s) {
   std::vector<glm::vec3> pos;
   std::vector<uint32_t> idx;
@@ -73,9 +88,9 @@ ShadowStressRow runCase(raster::Rasterizer& rast, const shadows::TechniqueInfo& 
                          in.light);
   in.casters = {pos, idx};
   in.receivers = &rec;
-  const shadows::ShadowResult res = shadows::computeShadows(rast, in, info, shadows::ParamSet(info.params));
+  const shadows::ShadowResult res = shadows::computeShadows(rast, in, info.info, info.params());
   ShadowStressRow row;
-  row.technique = info.name;
+  row.technique = info.label();
   row.name = name;
   row.param = param;
   double minLit = 1.0;
@@ -98,11 +113,11 @@ ShadowStressRow runCase(raster::Rasterizer& rast, const shadows::TechniqueInfo& 
 
 // A case whose V is known per receiver: judged like the others, and compared with `exact` where
 // that is not NaN.
-ShadowStressRow runExact(raster::Rasterizer& rast, const shadows::TechniqueInfo& info, const std::string& name,
+ShadowStressRow runExact(raster::Rasterizer& rast, const StressTechnique& info, const std::string& name,
                          const std::string& param, const shadows::ShadowInputs& in, const std::vector<float>& exact) {
-  const shadows::ShadowResult res = shadows::computeShadows(rast, in, info, shadows::ParamSet(info.params));
+  const shadows::ShadowResult res = shadows::computeShadows(rast, in, info.info, info.params());
   ShadowStressRow row;
-  row.technique = info.name;
+  row.technique = info.label();
   row.name = name;
   row.param = param;
   double sq = 0, sum = 0, minLit = 1.0;
@@ -142,7 +157,7 @@ struct Triangles {
 // The terminator: a UV sphere (a convex polyhedron) lit from `elevation` degrees above its
 // horizon; one receiver per facet facing the camera side, V = horizonFraction with the facet's
 // plane, exactly (every ray leaving a facet above its plane misses a convex solid).
-ShadowStressRow terminatorCase(raster::Rasterizer& rast, const shadows::TechniqueInfo& info, float elevation) {
+ShadowStressRow terminatorCase(raster::Rasterizer& rast, const StressTechnique& info, float elevation) {
   Triangles t;
   constexpr int kRings = 64, kSegments = 128;
   const auto at = [](int i, int j) {
@@ -184,7 +199,7 @@ ShadowStressRow terminatorCase(raster::Rasterizer& rast, const shadows::Techniqu
 // of the light above their plane. Flat, the plane cannot shadow them and is culled; sloped, the
 // light (3 x 3, at height 2) straddles the plane's extension, the plane is drawn into every map
 // and only the bias keeps it from shadowing its own receivers (acne).
-ShadowStressRow aboveCase(raster::Rasterizer& rast, const shadows::TechniqueInfo& info, float gap, float slopeDeg) {
+ShadowStressRow aboveCase(raster::Rasterizer& rast, const StressTechnique& info, float gap, float slopeDeg) {
   Triangles t;
   const float a = slopeDeg * 3.14159265f / 180.0f;
   const glm::vec3 u(std::cos(a), std::sin(a), 0.0f), w(0, 0, 1), n(-std::sin(a), std::cos(a), 0.0f);
@@ -211,7 +226,7 @@ ShadowStressRow aboveCase(raster::Rasterizer& rast, const shadows::TechniqueInfo
 
 // A unit cube on the ground; receivers on the ground in front of its +x face, the compared ones at
 // its foot (x = 0.5 + 0.002): V = the fraction of the light in front of the face's plane.
-ShadowStressRow cubeContactCase(raster::Rasterizer& rast, const shadows::TechniqueInfo& info) {
+ShadowStressRow cubeContactCase(raster::Rasterizer& rast, const StressTechnique& info) {
   Triangles t;
   const float h = 0.5f;
   t.quad({-8, 0, 8}, {8, 0, 8}, {8, 0, -8}, {-8, 0, -8});
@@ -259,10 +274,23 @@ std::string ShadowStressRow::json() const {
   return engine::report::jsonLine(j);
 }
 
+const std::vector<std::pair<std::string, std::string>>& shadowStressVariants() {
+  static const std::vector<std::pair<std::string, std::string>> variants = {
+      {"backproj", "gap_fill=off"},
+      {"backproj", "micro=quads,gap_fill=off"},
+      {"backproj", "micro=quads_outline"},
+      {"backproj", "search=mssm"},
+  };
+  return variants;
+}
+
 std::vector<ShadowStressRow> runShadowStress(raster::Rasterizer& rast) {
   std::vector<ShadowStressRow> rows;
-  for (const shadows::TechniqueInfo& t : shadows::registry()) {
-    if (t.isReference) continue;  // the ray tracer has no depth maps to stress
+  std::vector<StressTechnique> techniques;
+  for (const shadows::TechniqueInfo& t : shadows::registry())
+    if (!t.isReference) techniques.push_back({t, ""});  // the ray tracer has no depth maps to stress
+  for (const auto& [name, settings] : shadowStressVariants()) techniques.push_back({*shadows::findTechnique(name), settings});
+  for (const StressTechnique& t : techniques) {
     // Depth range: a half-plane occluder 0.5 above the receivers and a tiny one delta below the
     // light (inside its footprint, so it is kept and sets the near plane): far / near = h / delta.
     for (const auto& [h, delta] : {std::pair{10.0f, 0.1f}, {10.0f, 1e-3f}, {10.0f, 1e-5f}, {1e5f, 1.0f}}) {

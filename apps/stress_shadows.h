@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "raster/pipeline.h"
@@ -36,7 +37,11 @@ struct ShadowStressRow {
   std::string json() const;
 };
 
+// Every registry technique at its defaults, then the variants below (technique, settings; their
+// rows' technique is "name settings"): microquads and the search structures, whose depth
+// discontinuities, contact and depth range differ from the defaults'.
 std::vector<ShadowStressRow> runShadowStress(raster::Rasterizer& rast);
+const std::vector<std::pair<std::string, std::string>>& shadowStressVariants();
 
 // The summed-area tables of the pre-filtered techniques (raster/sat.h) at 4096^2 on an ESSM-like
 // image: exp(-80 u) with u rising from 0 at one corner to 1 at the other (values from 1 down to

@@ -39,7 +39,7 @@ TEST(Stress, ShadowSuiteFiniteAndInRange) {
   const std::vector<ShadowStressRow> rows = runShadowStress(r);
   size_t techniques = 0;
   for (const shadows::TechniqueInfo& t : shadows::registry()) techniques += t.isReference ? 0 : 1;
-  ASSERT_EQ(rows.size(), techniques * 14);
+  ASSERT_EQ(rows.size(), (techniques + shadowStressVariants().size()) * 14);
   for (const ShadowStressRow& row : rows) {
     EXPECT_TRUE(row.ok()) << row.json();
     const bool exact =
