@@ -24,7 +24,7 @@ namespace {
 constexpr double kDepthScale = 16777215.0;  // 2^24 - 1: stored values in (0, 1]
 
 struct Counts {
-  uint64_t lookups = 0, settled = 0, blocks = 0, texels = 0;
+  uint64_t lookups = 0, missed = 0, settled = 0, blocks = 0, texels = 0;
 };
 
 // One layer as the receivers read it: the coverage table, and the stored values (b_0 / depth,
@@ -33,6 +33,9 @@ struct Counts {
 // texels +max, so a block's min is over its covered texels only).
 struct Layer {
   float front = 0, back = 0;  // depth range of the slab
+  // The tables cover only the rectangle of the map that holds covered texels: columns [x0, x0 + w),
+  // rows [y0, y0 + h) (w = 0: nothing covered). Outside it the coverage is 0.
+  int x0 = 0, y0 = 0, w = 0, h = 0;
   // Two channels, exact integers: covered (0 or 1), and covered times the stored value in
   // kDepthScale units (the mean depth of the covered texels of a box).
   raster::MultiSat<uint64_t> coverage;
@@ -108,6 +111,7 @@ class OcclusionTextures final : public Technique {
       });
     });
     tbb::enumerable_thread_specific<Counts> counts;
+    uint64_t layerTexels = 0, croppedTexels = 0;
     // slices=map: one depth map of every caster, its texels dealt to the layers by depth.
     ShadowMap full;
     if (fromMap_) {
@@ -119,6 +123,9 @@ class OcclusionTextures final : public Technique {
     for (int k = 0; k < layers_; ++k) {
       if (draws_[static_cast<size_t>(k)].indices.empty()) continue;
       const Layer layer = buildLayer(ctx, k, fromMap_ ? &full : nullptr);
+      layerTexels += static_cast<uint64_t>(view_.width) * static_cast<uint64_t>(view_.height);
+      croppedTexels += static_cast<uint64_t>(layer.w) * static_cast<uint64_t>(layer.h);
+      if (layer.w == 0) continue;
       const auto t0 = Clock::now();
       const glm::vec3 n = ctx.in.light.normal(), c = ctx.in.light.center;
       const auto accumulate = [&](const tbb::blocked_range<int>& rows) {
@@ -140,14 +147,18 @@ class OcclusionTextures final : public Technique {
     ctx.times.msEvaluate += msSince(t0);
     Counts sum;
     counts.combine_each([&](const Counts& q) {
-      sum.lookups += q.lookups, sum.settled += q.settled, sum.blocks += q.blocks, sum.texels += q.texels;
+      sum.lookups += q.lookups, sum.missed += q.missed, sum.settled += q.settled, sum.blocks += q.blocks;
+      sum.texels += q.texels;
     });
-    char line[320];
+    char line[400];
     std::snprintf(
         line, sizeof line,
-        "occtex: %llu layer lookups, %llu settled by the min/max pyramid alone; receiver-plane test %s: "
-        "%.2f blocks and %.2f texels refined per lookup",
-        static_cast<unsigned long long>(sum.lookups), static_cast<unsigned long long>(sum.settled),
+        "occtex: tables over %.1f%% of the layers' texels (each layer's covered rectangle); %llu layer "
+        "lookups, %llu skipped (the footprint misses the rectangle), %llu settled by the min/max pyramid "
+        "alone; receiver-plane test %s: %.2f blocks and %.2f texels refined per lookup",
+        100.0 * static_cast<double>(croppedTexels) / static_cast<double>(std::max<uint64_t>(layerTexels, 1)),
+        static_cast<unsigned long long>(sum.lookups), static_cast<unsigned long long>(sum.missed),
+        static_cast<unsigned long long>(sum.settled),
         planeTest_ ? "on" : "off",
         static_cast<double>(sum.blocks) / static_cast<double>(std::max<uint64_t>(sum.lookups, 1)),
         static_cast<double>(sum.texels) / static_cast<double>(std::max<uint64_t>(sum.lookups, 1)));
@@ -172,20 +183,47 @@ class OcclusionTextures final : public Technique {
       ctx.times.msMaps += msSince(t0);
     }
     const auto t1 = Clock::now();
-    const int w = view_.width, h = view_.height;
     // Stored near / depth: covered where depth < back, i.e. stored > near / back, and (the full
     // map) depth >= front, i.e. stored <= near / front.
     const float near = full ? view_.znear : layer.front;
     const float coveredAbove = near / layer.back, toFirst = view_.znear / near;
     const float coveredUpTo = full ? view_.znear / layer.front : std::numeric_limits<float>::max();
+    const raster::ImageFloat& depth = (full ? *full : map).depth.image();
+    auto isCovered = [&](float s) { return s > coveredAbove && s <= coveredUpTo; };
+    // The rectangle of covered texels (a min/max reduction: the same at any thread count).
+    struct Span {
+      int x0 = std::numeric_limits<int>::max(), x1 = -1, y0 = std::numeric_limits<int>::max(), y1 = -1;
+    };
+    tbb::enumerable_thread_specific<Span> spans;
+    ctx.raster.run([&] {
+      tbb::parallel_for(0, view_.height, [&](int y) {
+        int lo = -1, hi = -1;
+        for (int x = 0; x < view_.width; ++x)
+          if (isCovered(depth.at(x, y))) hi = x, lo = lo < 0 ? x : lo;
+        if (lo < 0) return;
+        Span& sp = spans.local();
+        sp.x0 = std::min(sp.x0, lo), sp.x1 = std::max(sp.x1, hi + 1);
+        sp.y0 = std::min(sp.y0, y), sp.y1 = std::max(sp.y1, y + 1);
+      });
+    });
+    Span all;
+    spans.combine_each([&](const Span& sp) {
+      all.x0 = std::min(all.x0, sp.x0), all.x1 = std::max(all.x1, sp.x1);
+      all.y0 = std::min(all.y0, sp.y0), all.y1 = std::max(all.y1, sp.y1);
+    });
+    if (all.x1 < 0) {
+      ctx.times.msFilter += msSince(t1);
+      return layer;
+    }
+    layer.x0 = all.x0, layer.y0 = all.y0, layer.w = all.x1 - all.x0, layer.h = all.y1 - all.y0;
+    const int w = layer.w, h = layer.h;
     raster::ImageFloat nearest(w, h), farthest(w, h);
     raster::Planes<uint32_t> covered(w, h, 2);
-    const raster::ImageFloat& depth = (full ? *full : map).depth.image();
     ctx.raster.run([&] {
       tbb::parallel_for(0, h, [&](int y) {
         for (int x = 0; x < w; ++x) {
-          const float s = depth.at(x, y);
-          const bool in = s > coveredAbove && s <= coveredUpTo;
+          const float s = depth.at(x + layer.x0, y + layer.y0);
+          const bool in = isCovered(s);
           nearest.at(x, y) = in ? s * toFirst : 0.0f;
           farthest.at(x, y) = in ? s * toFirst : std::numeric_limits<float>::max();
           uint32_t* c = covered.pixel(x, y);
@@ -211,11 +249,16 @@ class OcclusionTextures final : public Technique {
     // The part of the slab in front of the receiver: the whole slab without the plane test (the
     // paper's layers above the receiver), up to the receiver with it.
     const float back = planeTest_ ? std::min(layer.back, dr) : layer.back;
-    if (!(layer.front < back) || !(back <= dr)) return 0.0f;
-    ++cnt.lookups;
+    if (!(layer.front < back) || !(back <= dr) || layer.w == 0) return 0.0f;
     // The slab's part in front of the receiver, in 1/depth: the layer is taken at its middle, or at
     // the mean depth of what it holds in the light's footprint from there (clamped to the part).
     const float invFront = 1.0f / layer.front, invBack = 1.0f / back;
+    // The widest footprint (at the slab's front) missing the covered rectangle: nothing to count.
+    const Box widest = footprint(ctx, v, invFront);
+    if (!(widest.x1 > layer.x0 && widest.x0 < layer.x0 + layer.w && widest.y1 > layer.y0 &&
+          widest.y0 < layer.y0 + layer.h))
+      return ++cnt.missed, 0.0f;
+    ++cnt.lookups;
     Box box = footprint(ctx, v, 0.5f * (invFront + invBack));
     if (!(box.area() > 0.0)) return 0.0f;
     std::optional<ReceiverPlane> plane;
@@ -254,9 +297,14 @@ class OcclusionTextures final : public Technique {
 
   // sums = the box's covered area and its covered texels' stored values (kDepthScale units, area-
   // weighted), only of those nearer than `plane` when there is one.
-  void covered(const Layer& layer, const Box& b, const ReceiverPlane* plane, double sums[2],
+  void covered(const Layer& layer, const Box& box, const ReceiverPlane* plane, double sums[2],
                Counts& cnt) const {
     sums[0] = sums[1] = 0.0;
+    // In the layer's rectangle (its tables' coordinates); outside it nothing is covered.
+    const Box b{std::max(box.x0 - layer.x0, 0.0), std::max(box.y0 - layer.y0, 0.0),
+                std::min(box.x1 - layer.x0, static_cast<double>(layer.w)),
+                std::min(box.y1 - layer.y0, static_cast<double>(layer.h))};
+    if (!(b.x0 < b.x1) || !(b.y0 < b.y1)) return;
     if (!plane) {
       layer.coverage.boxSum(b.x0, b.y0, b.x1, b.y1, sums);
       return;
@@ -291,19 +339,20 @@ class OcclusionTextures final : public Technique {
   }
 
   // Adds to sums the covered area (and stored values) nearer than the plane of block (i, j) of
-  // `level` inside the box.
+  // `level` inside the box (the layer's table coordinates).
   void visit(const Layer& layer, const Query& q, int level, int i, int j, double sums[2], Counts& cnt) const {
     const Box& b = q.box;
     const double bx0 = std::max(b.x0, static_cast<double>(i << level));
-    const double bx1 = std::min(b.x1, static_cast<double>(std::min((i + 1) << level, view_.width)));
+    const double bx1 = std::min(b.x1, static_cast<double>(std::min((i + 1) << level, layer.w)));
     const double by0 = std::max(b.y0, static_cast<double>(j << level));
-    const double by1 = std::min(b.y1, static_cast<double>(std::min((j + 1) << level, view_.height)));
+    const double by1 = std::min(b.y1, static_cast<double>(std::min((j + 1) << level, layer.h)));
     if (!(bx0 < bx1) || !(by0 < by1)) return;
     const auto l = static_cast<size_t>(level);
     const float sNear = layer.nearest.maxs[l].at(i, j);
     if (!(sNear > 0.0f)) return;  // nothing covered
     // The plane's thresholds over the block's part of the box (linear: extremes at its corners).
-    const float u0 = tanX(bx0), u1 = tanX(bx1), w0 = tanY(by0), w1 = tanY(by1);
+    const double ox = layer.x0, oy = layer.y0;
+    const float u0 = tanX(bx0 + ox), u1 = tanX(bx1 + ox), w0 = tanY(by0 + oy), w1 = tanY(by1 + oy);
     const float t00 = q.plane.threshold(u0, w0), t01 = q.plane.threshold(u0, w1);
     const float t10 = q.plane.threshold(u1, w0), t11 = q.plane.threshold(u1, w1);
     const float tMin = std::min(std::min(t00, t01), std::min(t10, t11));
@@ -311,7 +360,7 @@ class OcclusionTextures final : public Technique {
     if (!(sNear > tMin)) return;  // every covered texel behind the plane
     if (layer.farthest.mins[l].at(i, j) > tMax || level == 0) {
       // Every covered texel nearer than the plane (a texel: tested at its centre, as PCF's taps).
-      if (level == 0 && !(sNear > q.plane.threshold(tanX(i + 0.5), tanY(j + 0.5)))) return;
+      if (level == 0 && !(sNear > q.plane.threshold(tanX(i + 0.5 + ox), tanY(j + 0.5 + oy)))) return;
       double part[2];
       layer.coverage.boxSum(bx0, by0, bx1, by1, part);
       sums[0] += part[0], sums[1] += part[1];
@@ -329,7 +378,7 @@ class OcclusionTextures final : public Technique {
   LightView view_;
   glm::vec2 margin_{0.0f};
   BiasParams bias_;
-  int layers_ = 8;
+  int layers_ = 4;
   bool planeTest_ = true, occluderDepth_ = true, fromMap_ = false, sumFusion_ = false;
   std::vector<float> bounds_;
   std::vector<CasterDraw> draws_;
@@ -343,7 +392,7 @@ TechniqueInfo occtexTechnique() {
   std::vector<ParamSpec> p = depthMapParams(512, 0.5, 0.5);
   p.push_back({.name = "layers",
                .kind = ParamKind::Int,
-               .defaultValue = 8,
+               .defaultValue = 4,
                .minValue = 1,
                .maxValue = 64,
                .choices = {},
@@ -370,7 +419,7 @@ TechniqueInfo occtexTechnique() {
               "occlusion textures: the casters in layers parallel to the light, each a pre-filtered coverage "
               "texture, transmissions multiplied",
           .params = std::move(p),
-          .benchSettings = {"layers=4", "", "layers=16", "slices=map", "slices=map,fusion=sum",
+          .benchSettings = {"", "layers=8", "layers=16", "slices=map", "slices=map,fusion=sum",
                             "layer_depth=slab", "plane_test=off"},
           .isReference = false,
           .make = [] { return std::make_unique<OcclusionTextures>(); },
