@@ -9,6 +9,10 @@
 //    depth range meets the slab; a texel whose nearest surface lies before the slab's back is
 //    covered. Triangles are binned to the slabs they span, so the L renders cost about one or two
 //    full ones. Slabs no triangle reaches are skipped (no render, no pass over the receivers).
+//    A layer's tables (below) cover only the rectangle of its covered texels, and a receiver whose
+//    widest footprint on the slab (at its front) misses that rectangle skips the layer: casters
+//    fill a few percent of the receivers' frustum, so most of each map is neither filtered nor
+//    read. Default 4 layers: more split more solids (see Fails) and cost more.
 // 2. Filter: a receiver at depth d_r sees the light through a layer at depth z in the light's
 //    rectangle scaled by (d_r - z) / d_r, in the map's tangent units half-extents (w/2, h/2)
 //    (1/z - 1/d_r) around its own tangent point (Soler & Sillion's convolution). The paper takes
