@@ -595,6 +595,48 @@ TEST(Techniques, BackprojectionGapFillingClosesTheCracksOfASteepOccluder) {
   }
 }
 
+TEST(Techniques, BackprojectionMicroquadsKeepWiresAndOutlines) {
+  // A wire about a texel wide (0.006 at height 2 under the light at 4; texels of about 0.005 there)
+  // over the edge case's receivers: where the map holds it one texel wide, no quad has three
+  // blocker corners, and without the lone texels' patches its shadow would vanish (V 1 against
+  // 0.955 measured). Microquads keep it within 0.01 of micropatches' mean V.
+  EdgeCase c;
+  c.positions = {{-0.005f, 0.5f, -20}, {0.005f, 0.5f, -20}, {0.005f, 0.5f, 20}, {-0.005f, 0.5f, 20}};
+  c.in.casters = {c.positions, c.indices};
+  auto meanV = [&](const char* params) {
+    const raster::ImageFloat v = run(*findTechnique("backproj"), c.in, 2, params);
+    double sum = 0;
+    int n = 0;
+    for (int j = 0; j < EdgeCase::kH; ++j)
+      for (int i = 0; i < EdgeCase::kW; ++i)
+        if (std::abs(EdgeCase::x(i)) < 0.1f) sum += static_cast<double>(v.at(i, j)), ++n;
+    return sum / n;
+  };
+  const double patches = meanV("samples=1024"), quads = meanV("samples=1024,micro=quads");
+  const double outline = meanV("samples=1024,micro=quads_outline");
+  std::printf("a wire: mean V under it %.4f micropatches, %.4f microquads, %.4f with outline patches\n", patches,
+              quads, outline);
+  EXPECT_LT(patches, 0.99);  // the wire does shadow them
+  EXPECT_NEAR(quads, patches, 0.01);
+  EXPECT_NEAR(outline, patches, 0.01);
+  // The straight edge: pure microquads stop half a texel inside it, so its penumbra is brighter
+  // than micropatches'; the outline patches put it back.
+  EdgeCase e;
+  auto meanEdge = [&](const char* params) {
+    const raster::ImageFloat v = run(*findTechnique("backproj"), e.in, 2, params);
+    double sum = 0;
+    for (int j = 0; j < EdgeCase::kH; ++j)
+      for (int i = 1; i < EdgeCase::kW; ++i) sum += static_cast<double>(v.at(i, j));
+    return sum / (EdgeCase::kH * (EdgeCase::kW - 1));
+  };
+  const double ePatches = meanEdge("samples=1024"), eQuads = meanEdge("samples=1024,micro=quads");
+  const double eOutline = meanEdge("samples=1024,micro=quads_outline");
+  std::printf("the edge: mean V %.5f micropatches, %.5f microquads, %.5f with outline patches\n", ePatches, eQuads,
+              eOutline);
+  EXPECT_GT(eQuads - ePatches, 0.0005);  // 0.00094 measured: half a texel of the edge's penumbra
+  EXPECT_LT(std::abs(eOutline - ePatches), 0.0002);  // 0 measured
+}
+
 TEST(Techniques, OcclusionTexturesMatchTheAnalyticPenumbra) {
   // The straight edge over a plane, the receivers' plane a caster and the small caster nearer the
   // light: the edge's layer, filtered over the light's footprint at its depth, gives the ramp; the
