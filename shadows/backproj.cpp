@@ -665,14 +665,17 @@ TechniqueInfo backprojTechnique() {
           .make = [] { return std::make_unique<Backproj>(); },
           // The widened map (up to 2 map_size per side): depth, its render target and the min/max
           // pyramid, 16 bytes per texel; the stack, 8 bytes per texel and level (MSSM: one level
-          // per doubling of the side; YSM: on a grid 4x4 times smaller); the bitmask's tables.
+          // per doubling of the side; YSM: on a grid 4x4 times smaller); microquads' texel list; the
+          // bitmask's tables.
           .peakBytes = [](const ParamSet& params, uint64_t) -> uint64_t {
             const auto side = 2 * static_cast<uint64_t>(params.integer("map_size"));
             const auto words = static_cast<uint64_t>(std::stoi(params.choice("samples")) / 64);
             const std::string search = params.choice("search");
             const uint64_t grid = search == "ysm" ? side >> kYsmBase : side;
             const uint64_t stack = search == "hsm" ? 0 : grid * grid * 8 * (std::bit_width(grid) + 1);
-            return side * side * 16 + stack + 2 * (kBins + 1) * words * 8;
+            // Microquads: a search's list of level-0 blocker texels (8 bytes each), at worst the map.
+            const uint64_t quads = params.choice("micro") == "patches" ? 0 : side * side * 8;
+            return side * side * 16 + stack + quads + 2 * (kBins + 1) * words * 8;
           }};
 }
 
