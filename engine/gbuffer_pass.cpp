@@ -130,9 +130,10 @@ const Material& gbufferMaterial(const Scene& scene, int32_t material) {
 void drawGBuffer(raster::Rasterizer& raster, const Scene& scene, const FramePlan& plan, Frame& frame) {
   const auto t0 = raster::Clock::now();
   FrameStats& st = frame.stats;
-  frame.depth.resize(plan.width, plan.height, 1.0f);
-  frame.gbuffer.resize(plan.width, plan.height);
-  raster.clear(frame.depth, 1.0f);
+  raster.run([&] {  // first touched by every thread (Image::resizeParallel)
+    frame.depth.resizeParallel(plan.width, plan.height, 1.0f);
+    frame.gbuffer.resizeParallel(plan.width, plan.height);
+  });
   for (size_t vi : plan.ordinary) {
     const Instance& inst = scene.instances[vi];
     const Mesh& mesh = scene.meshes[static_cast<size_t>(inst.mesh)];

@@ -94,8 +94,10 @@ void shadeFrame(raster::Rasterizer& raster, const Scene& scene, const FramePlan&
   const auto t0 = raster::Clock::now();
   const int w = plan.width, h = plan.height;
   const bool layered = frame.spp > 0;
-  frame.linear.resize(w, h);
-  frame.color.resize(w, h);
+  raster.run([&] {
+    frame.linear.resizeParallel(w, h);
+    frame.color.resizeParallel(w, h);
+  });
   const glm::vec3 eye = plan.camera.eye;
   const bool plain = plan.exposureScale == 1.0f && plan.toneMap == ToneMap::None;  // the bytes as without them
   raster.run([&] {

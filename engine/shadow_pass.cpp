@@ -117,8 +117,9 @@ shadows::ReceiverImage stackReceivers(raster::Rasterizer& raster, const Frame& f
                                       const std::vector<raster::Image<shadows::Receiver>>& layerReceivers) {
   const int w = frame.gbuffer.width(), h = frame.gbuffer.height();
   const int layers = layerReceivers.empty() ? 1 : static_cast<int>(layerReceivers.size());
-  shadows::ReceiverImage rec(w, h * layers);
+  shadows::ReceiverImage rec;
   raster.run([&] {
+    rec.resizeParallel(w, h * layers);  // padding stays invalid
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y != rows.end(); ++y)
         for (int x = 0; x < w; ++x) {

@@ -8,6 +8,15 @@ namespace penumbra::raster {
 
 void DepthTarget::resize(int width, int height, float clearValue) {
   depth_.resize(width, height, clearValue);
+  resizeBlocks(clearValue);
+}
+
+void DepthTarget::resizeParallel(int width, int height, float clearValue) {
+  depth_.resizeParallel(width, height, clearValue);
+  resizeBlocks(clearValue);
+}
+
+void DepthTarget::resizeBlocks(float clearValue) {
   blocksX_ = depth_.stride() / kBlockSize;
   blocksY_ = depth_.paddedRows() / kBlockSize;
   blockMin_.assign(static_cast<size_t>(blocksX_) * static_cast<size_t>(blocksY_), clearValue);

@@ -18,6 +18,8 @@ class DepthTarget {
   DepthTarget(int width, int height, float clearValue = 1.0f) { resize(width, height, clearValue); }
 
   void resize(int width, int height, float clearValue = 1.0f);
+  // As resize, the depths written by TBB's tasks in the calling arena (Image::resizeParallel).
+  void resizeParallel(int width, int height, float clearValue = 1.0f);
   // Sets every depth (padding included) and the coarse record to `value`. Tile-parallel in the
   // calling TBB arena.
   void clear(float value);
@@ -34,6 +36,8 @@ class DepthTarget {
   float* blockMax() { return blockMax_.data(); }
 
  private:
+  void resizeBlocks(float clearValue);  // the coarse record for depth_'s size, every block at clearValue
+
   ImageFloat depth_;
   int blocksX_ = 0, blocksY_ = 0;
   std::vector<float> blockMin_, blockMax_;

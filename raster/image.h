@@ -14,6 +14,11 @@
 #include <cstdint>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "raster/large_pages.h"
+
 namespace penumbra::raster {
 
 inline constexpr int kImagePad = 8;
@@ -41,6 +46,21 @@ class Image {
     stride_ = (width + kImagePad - 1) / kImagePad * kImagePad;
     rows_ = (height + kImagePad - 1) / kImagePad * kImagePad;
     data_.assign(static_cast<size_t>(stride_) * static_cast<size_t>(rows_), value);
+  }
+  // As resize, with the elements written by TBB's tasks in the current arena (call it inside
+  // Rasterizer::run to keep its thread count): the first touch of a frame-sized image -- its page
+  // faults and the kernel's zeroing -- is spread over the threads instead of taken by one.
+  void resizeParallel(int width, int height, const T& value = T{}) {
+    assert(width >= 0 && height >= 0);
+    width_ = width;
+    height_ = height;
+    stride_ = (width + kImagePad - 1) / kImagePad * kImagePad;
+    rows_ = (height + kImagePad - 1) / kImagePad * kImagePad;
+    data_ = {};
+    data_.resize(static_cast<size_t>(stride_) * static_cast<size_t>(rows_));  // not written (large_pages.h)
+    tbb::parallel_for(tbb::blocked_range<int>(0, rows_, kImagePad), [&](const tbb::blocked_range<int>& r) {
+      std::fill(row(r.begin()), row(r.begin()) + static_cast<size_t>(r.size()) * static_cast<size_t>(stride_), value);
+    });
   }
   void fill(const T& value) { std::fill(data_.begin(), data_.end(), value); }
 
@@ -73,7 +93,7 @@ class Image {
 
  private:
   int width_ = 0, height_ = 0, stride_ = 0, rows_ = 0;
-  std::vector<T> data_;
+  std::vector<T, LargePageAllocator<T>> data_;  // large images on huge pages (large_pages.h)
 };
 
 using ImageRgba8 = Image<Rgba8>;

@@ -11,9 +11,9 @@ namespace penumbra::shadows {
 template <class F>
 void forEachReceiver(ShadowContext& ctx, raster::ImageFloat& visibility, F&& f, SelfShadow self) {
   const ReceiverImage& rec = *ctx.in.receivers;
-  visibility.resize(rec.width(), rec.height());
   const glm::vec3 n = ctx.in.light.normal(), c = ctx.in.light.center;
   ctx.raster.run([&] {
+    visibility.resizeParallel(rec.width(), rec.height());
     tbb::parallel_for(tbb::blocked_range<int>(0, rec.height(), 4), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y != rows.end(); ++y)
         for (int x = 0; x < rec.width(); ++x) {
