@@ -1,10 +1,13 @@
 #include "shadows/light_view.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <limits>
+
+#include "raster/large_pages.h"
 
 namespace penumbra::shadows {
 
@@ -119,6 +122,41 @@ float minDepthInRegion(const LightRegion& r, float hw, float hh, const glm::vec3
   return d;
 }
 
+// The light-space positions of the receivers in front of the light, in row-major order: counted
+// per row, then written in parallel at each row's offset (one allocation of the exact size; the
+// order, and so every reduction over it, does not depend on the threads).
+std::vector<glm::vec3, raster::LargePageAllocator<glm::vec3>> receiverPointsInFront(const RectLight& light,
+                                                                                   const ReceiverImage& receivers) {
+  const int w = receivers.width(), h = receivers.height();
+  auto inFront = [&](const Receiver& r, glm::vec3& q) {
+    if (!r.valid) return false;
+    q = toLightSpace(light, r.position);
+    return q.z > 0.0f;
+  };
+  std::vector<size_t> offset(static_cast<size_t>(h) + 1, 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y) {
+      const Receiver* row = receivers.row(y);
+      size_t n = 0;
+      glm::vec3 q;
+      for (int x = 0; x < w; ++x) n += inFront(row[x], q) ? 1 : 0;
+      offset[static_cast<size_t>(y) + 1] = n;
+    }
+  });
+  for (size_t y = 0; y < static_cast<size_t>(h); ++y) offset[y + 1] += offset[y];
+  std::vector<glm::vec3, raster::LargePageAllocator<glm::vec3>> out(offset.back());
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y) {
+      const Receiver* row = receivers.row(y);
+      glm::vec3* dst = out.data() + offset[static_cast<size_t>(y)];
+      glm::vec3 q;
+      for (int x = 0; x < w; ++x)
+        if (inFront(row[x], q)) *dst++ = q;
+    }
+  });
+  return out;
+}
+
 }  // namespace
 
 bool LightRegion::mayShadow(const RectLight& light, const glm::vec3 worldCorners[8]) const {
@@ -154,7 +192,7 @@ CasterSet cullCasters(const RectLight& light, const LightRegion& region, const G
   // receivers' box face.
   constexpr int kMaxPlaneScans = 64;
   int scans = 0;
-  std::vector<glm::vec3> recPoints;  // light space, receivers in front; filled on first use
+  std::vector<glm::vec3, raster::LargePageAllocator<glm::vec3>> recPoints;  // filled on first use
   glm::vec3 lastU(0.0f);
   float lastOffset = 0.0f;
   bool lastAnswer = false, haveLast = false;
@@ -175,15 +213,7 @@ CasterSet cullCasters(const RectLight& light, const LightRegion& region, const G
     if (haveLast && glm::length(u - lastU) < 1e-5f && std::abs(offset - lastOffset) < eps) return lastAnswer;
     if (scans == kMaxPlaneScans) return false;
     ++scans;
-    if (recPoints.empty()) {
-      for (int y = 0; y < receivers->height(); ++y)
-        for (int x = 0; x < receivers->width(); ++x) {
-          const Receiver& r = receivers->at(x, y);
-          if (!r.valid) continue;
-          const glm::vec3 q = toLightSpace(light, r.position);
-          if (q.z > 0.0f) recPoints.push_back(q);
-        }
-    }
+    if (recPoints.empty()) recPoints = receiverPointsInFront(light, *receivers);
     // min over receivers of the signed distance; min is order-independent: deterministic.
     const float minDist = tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, recPoints.size(), 8192), std::numeric_limits<float>::max(),
