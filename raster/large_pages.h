@@ -7,8 +7,9 @@
 // kLargePageBytes or more are aligned to 2 MiB and marked MADV_HUGEPAGE, so one fault maps 2 MiB
 // (measured on the default scene: docs/performance.md, "The default scene"). Where the kernel has
 // no transparent huge pages (or the platform no madvise) the hint is ignored and nothing changes
-// but the alignment. Contents are not affected: what is allocated is initialized by its container
-// as before, so images stay byte-identical.
+// but the alignment. Contents are not affected: every element is written before it is read (by
+// its container, or by Image::resizeParallel where value-initialization is skipped, below), so
+// images stay byte-identical.
 //
 // Thread-safety: stateless; allocate/deallocate are as thread-safe as the C library's allocator.
 #pragma once
