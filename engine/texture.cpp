@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <vector>
 
@@ -96,6 +97,7 @@ glm::vec4 bilinear(const ImageRgba8& img, glm::vec2 uv) {
   const double xf = std::floor(x), yf = std::floor(y);
   const float fx = static_cast<float>(x - xf), fy = static_cast<float>(y - yf);
   auto wrap = [](double i, int n) {
+    if (i >= 0.0 && i < n) return static_cast<int>(i);  // the formula below's value, without a division
     const double m = i - n * std::floor(i / n);  // in [0, n], n only through rounding
     const int k = static_cast<int>(m);
     return k >= n ? 0 : k;
@@ -113,24 +115,56 @@ glm::vec4 bilinear(const ImageRgba8& img, glm::vec2 uv) {
 
 float srgbToLinear(uint8_t v) { return srgbTable()[v]; }
 
-uint8_t linearToSrgb(float linear) {
-  // Code k is chosen when the encoded value c satisfies c * 255 >= k - 0.5, i.e. when linear is at
-  // least the decoded value of (k - 0.5) / 255: a table of those 255 thresholds and a binary search
-  // replace a pow() per channel (the shading pass encodes every pixel).
-  static const std::array<float, 256> threshold = [] {
-    std::array<float, 256> t{};
-    t[0] = -1.0f;
+namespace {
+
+// Code k is chosen when the encoded value c satisfies c * 255 >= k - 0.5, i.e. when linear is at
+// least the decoded value of (k - 0.5) / 255: threshold[k] (threshold[0] = -1 takes everything else).
+// Every float below 2^-13 gives 0 (threshold[1] is 1.5e-4); from there to 1 the floats are cut into
+// buckets of 128 per octave (their top 7 mantissa bits, 0.8% apart), and bucket[i] holds the code of
+// its smallest float. The thresholds are at least 0.9% apart, so a bucket holds at most one of them
+// and a value's code is its bucket's or the next: a table lookup and at most two comparisons replace
+// a binary search over 255 thresholds (three per pixel in the shading pass), with the same result
+// (tests/engine/texture_test.cpp compares with the binary search over all floats in [0, 1]).
+constexpr uint32_t kLowestBucketBits = (127u - 13u) << 23;  // 2^-13
+constexpr int kBucketShift = 23 - 7;
+constexpr size_t kBuckets = size_t{13} << 7;  // octaves 2^-13 ... 2^-1
+
+struct SrgbEncodeTables {
+  std::array<float, 257> threshold{};  // [256]: +inf, so that no code passes 255
+  std::array<uint8_t, kBuckets> bucket{};
+};
+
+const SrgbEncodeTables& srgbEncodeTables() {
+  static const SrgbEncodeTables tables = [] {
+    SrgbEncodeTables t;
+    t.threshold[0] = -1.0f;
     for (int k = 1; k < 256; ++k) {
       const double c = (k - 0.5) / 255.0;
-      t[static_cast<size_t>(k)] = static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+      t.threshold[static_cast<size_t>(k)] =
+          static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+    }
+    t.threshold[256] = INFINITY;
+    for (size_t i = 0; i < kBuckets; ++i) {
+      const float lowest = std::bit_cast<float>(kLowestBucketBits + (static_cast<uint32_t>(i) << kBucketShift));
+      size_t k = 0;
+      while (lowest >= t.threshold[k + 1]) ++k;
+      t.bucket[i] = static_cast<uint8_t>(k);
     }
     return t;
   }();
+  return tables;
+}
+
+}  // namespace
+
+uint8_t linearToSrgb(float linear) {
+  const SrgbEncodeTables& t = srgbEncodeTables();
   if (!(linear > 0.0f)) return 0;  // also NaN
   if (linear >= 1.0f) return 255;
-  size_t k = 0;
-  for (size_t step = 128; step > 0; step >>= 1)
-    if (linear >= threshold[k + step]) k += step;
+  const uint32_t bits = std::bit_cast<uint32_t>(linear);
+  if (bits < kLowestBucketBits) return 0;
+  size_t k = t.bucket[(bits - kLowestBucketBits) >> kBucketShift];
+  while (linear >= t.threshold[k + 1]) ++k;
   return static_cast<uint8_t>(k);
 }
 

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -48,6 +50,47 @@ TEST(Srgb, DecodeMatchesTheStandardAndRoundTrips) {
   EXPECT_EQ(linearToSrgb(7.0f), 255);
   EXPECT_EQ(linearToSrgb(std::numeric_limits<float>::quiet_NaN()), 0);
   EXPECT_EQ(linearToSrgb(std::numeric_limits<float>::infinity()), 255);
+}
+
+// The encoder before its bucket table: a binary search over the 255 thresholds, the decoded values
+// of the codes' lower rounding bounds (k - 0.5) / 255.
+float encodeThreshold(int k) {
+  const double c = (k - 0.5) / 255.0;
+  return static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+}
+
+uint8_t linearToSrgbBinarySearch(float linear) {
+  static const std::array<float, 256> threshold = [] {
+    std::array<float, 256> t{};
+    t[0] = -1.0f;
+    for (int k = 1; k < 256; ++k) t[static_cast<size_t>(k)] = encodeThreshold(k);
+    return t;
+  }();
+  if (!(linear > 0.0f)) return 0;
+  if (linear >= 1.0f) return 255;
+  size_t k = 0;
+  for (size_t step = 128; step > 0; step >>= 1)
+    if (linear >= threshold[k + step]) k += step;
+  return static_cast<uint8_t>(k);
+}
+
+TEST(Srgb, EncodeEqualsTheBinarySearchOverTheThresholds) {
+  // Every 13th float in [0, 1] (all exponents, every bucket, mantissas of every residue), and every
+  // float within 4096 ulps of each code's threshold, where the bucket table's step decides.
+  const uint32_t one = std::bit_cast<uint32_t>(1.0f);
+  size_t checked = 0;
+  for (uint32_t bits = 0; bits <= one + 13; bits += 13, ++checked)
+    ASSERT_EQ(linearToSrgb(std::bit_cast<float>(bits)), linearToSrgbBinarySearch(std::bit_cast<float>(bits)))
+        << std::bit_cast<float>(bits);
+  for (int k = 1; k < 256; ++k) {
+    const uint32_t mid = std::bit_cast<uint32_t>(encodeThreshold(k));
+    for (uint32_t bits = mid - 4096; bits <= mid + 4096; ++bits, ++checked)
+      ASSERT_EQ(linearToSrgb(std::bit_cast<float>(bits)), linearToSrgbBinarySearch(std::bit_cast<float>(bits)))
+          << std::bit_cast<float>(bits);
+  }
+  EXPECT_GT(checked, size_t{80'000'000});
+  for (float v : {-0.0f, 1e-30f, 1.2e-4f, 0.00015f, 0.0031308f, 0.999f, 0.99999994f, 1.0f, 2.0f})
+    EXPECT_EQ(linearToSrgb(v), linearToSrgbBinarySearch(v)) << v;
 }
 
 TEST(Mips, SizesHalveDownToOneByOne) {
