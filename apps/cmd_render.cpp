@@ -103,6 +103,7 @@ engine::RenderOptions renderOptions(const RenderArgs& a) {
   if (!a.cache.empty()) options.cache = std::make_shared<engine::FileResultCache>(a.cache);
   options.spp = a.spp;
   options.msaa = a.msaa;
+  options.linearImage = !a.exr.empty();  // the radiance is written only to the EXR
   if (!stochastic::parseBoundMethod(a.bounds, options.bounds)) fail("option --bounds", "must be box, interval or dual");
   if (!a.strata.empty()) parseStrata(a.strata, options.timeStrata, options.lensStrata);
   options.frame = a.frame;

@@ -76,6 +76,7 @@ std::string FrameStats::report() const {
   std::string skipped;
   if (shadows.empty()) skipped += "shadow maps (no area light)";
   if (!stochastic) skipped += (skipped.empty() ? "" : ", ") + std::string("stochastic pass (") + stochasticPlan + ")";
+  if (!linearImage) skipped += (skipped.empty() ? "" : ", ") + std::string("linear radiance image (only the 8-bit one is written)");
   if (!skipped.empty()) s += "  skipped passes: " + skipped + "\n";
   return s;
 }

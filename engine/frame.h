@@ -56,6 +56,7 @@ struct FrameStats {
   raster::PassStats gbuffer;
   std::vector<LightShadowStats> shadows;  // one per area light
   double msCull = 0, msGbuffer = 0, msShadows = 0, msShade = 0, msTotal = 0;
+  bool linearImage = true;   // the shading pass filled Frame::linear (RenderOptions::linearImage)
   std::string cameraSource;  // "scene", "options" or "fitted to the objects' bounds"
   Camera camera;             // the camera used (printed by report())
   std::string lighting;      // "" or how the scene was lit by default

@@ -183,6 +183,7 @@ FramePlan planFrame(const Scene& scene, const ResolvedOptions& resolved, FrameSt
   plan.casterTime = plan.at ? plan.at->t : 0.5f;
   plan.exposureScale = static_cast<float>(std::exp2(options.exposure));
   plan.toneMap = options.toneMap;
+  plan.linearImage = options.linearImage;
 
   std::vector<size_t> visible;
   cullInstances(scene, plan, st, visible);

@@ -33,6 +33,7 @@ struct FramePlan {
   float casterTime = 0.5f;
   float exposureScale = 1.0f;   // 2^exposure, for the 8-bit image
   ToneMap toneMap = ToneMap::None;
+  bool linearImage = true;      // fill Frame::linear (RenderOptions::linearImage)
   bool stochasticPass = false;
   std::vector<size_t> ordinary, stochastic;  // instance indices, in scene order
 

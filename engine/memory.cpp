@@ -54,8 +54,8 @@ MemoryEstimate estimateFrameMemory(const Scene& scene, const ResolvedOptions& re
   auto part = [&](const std::string& what, uint64_t bytes) {
     if (bytes) e.parts.emplace_back(what, bytes);
   };
-  // Depth + coarse depth, G-buffer, linear + sRGB color, a visibility image per light (kept).
-  part("targets and G-buffer", pixels * (4 + 1 + sizeof(GBufferTexel) + 16 + 4 + 4 * lights));
+  // Depth + coarse depth, G-buffer, linear (when kept) + sRGB color, a visibility image per light (kept).
+  part("targets and G-buffer", pixels * (4 + 1 + sizeof(GBufferTexel) + (o.linearImage ? 16 : 0) + 4 + 4 * lights));
   if (stochastic)
     part("stochastic layers", pixels * (sizeof(stochastic::ResolvedPixel) + (layers - 1) * sizeof(GBufferTexel) +
                                         layers * sizeof(shadows::Receiver) + 1) +

@@ -86,6 +86,10 @@ struct RenderOptions {
   bool staticPath = true;         // static instances seen through a pinhole take the ordinary G-buffer pass
   bool staticShortcut = true;     // in the stochastic pass, one test per pixel for a static triangle (pinhole)
   bool forceStochastic = false;   // a stochastic pass even with no motion and a pinhole (tests)
+  // Keep Frame::linear, the radiance image (an EXR, an error measure, the Python module's array);
+  // off: only the 8-bit image is written, and the frame neither fills nor allocates the 16 bytes a
+  // pixel the radiance takes (the command line's render without --exr).
+  bool linearImage = true;
   // Instead of a stochastic pass, the pinhole frame at one shutter time and lens position: every
   // instance at time t, the camera looking through lens point (u, v). Averaging many of these is
   // the accumulation-buffer reference of motion blur and depth of field. t in [0, 1), (u, v) in

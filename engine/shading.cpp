@@ -94,10 +94,12 @@ void shadeFrame(raster::Rasterizer& raster, const Scene& scene, const FramePlan&
   const auto t0 = raster::Clock::now();
   const int w = plan.width, h = plan.height;
   const bool layered = frame.spp > 0;
+  const bool keepLinear = plan.linearImage;
   raster.run([&] {
-    frame.linear.resizeParallel(w, h);
+    if (keepLinear) frame.linear.resizeParallel(w, h);
     frame.color.resizeParallel(w, h);
   });
+  frame.stats.linearImage = keepLinear;
   const glm::vec3 eye = plan.camera.eye;
   const bool plain = plan.exposureScale == 1.0f && plan.toneMap == ToneMap::None;  // the bytes as without them
   raster.run([&] {
@@ -133,7 +135,7 @@ void shadeFrame(raster::Rasterizer& raster, const Scene& scene, const FramePlan&
               }
             }
           }
-          frame.linear.at(x, y) = raster::Float4{c.x, c.y, c.z, alpha};
+          if (keepLinear) frame.linear.at(x, y) = raster::Float4{c.x, c.y, c.z, alpha};
           if (plain)
             frame.color.at(x, y) = raster::Rgba8{linearToSrgb(c.x), linearToSrgb(c.y), linearToSrgb(c.z), 255};
           else

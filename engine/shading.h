@@ -18,7 +18,7 @@
 namespace penumbra::engine {
 
 // visibility: per area light, V of every layer's receivers (layer l in rows [l h, (l + 1) h)).
-// Fills frame.linear, frame.color and stats.msShade.
+// Fills frame.linear (when the plan keeps it), frame.color and stats.msShade.
 void shadeFrame(raster::Rasterizer& raster, const Scene& scene, const FramePlan& plan,
                 const std::vector<raster::ImageFloat>& visibility, Frame& frame);
 

@@ -42,6 +42,24 @@ TEST(Renderer, DefaultSceneIsByteIdenticalAcrossThreadCounts) {
   EXPECT_EQ(f.stats.instancesCulled, 0u);
 }
 
+TEST(Renderer, WithoutTheLinearImageTheSameBytesAndNoRadianceKept) {
+  // The command line's render without --exr: the 8-bit image only, the same bytes, the skip reported.
+  Result<Scene> scene = makeBuiltinScene(kDefaultScene);
+  ASSERT_TRUE(scene.ok()) << scene.error().line();
+  RenderOptions opt;
+  opt.width = 96;
+  opt.height = 54;
+  Renderer r(2);
+  const Frame kept = test::renderFrame(r, *scene, opt);
+  opt.linearImage = false;
+  const Frame dropped = test::renderFrame(r, *scene, opt);
+  EXPECT_EQ(kept.linear.width(), opt.width);
+  EXPECT_TRUE(dropped.linear.empty());
+  EXPECT_EQ(bytes(dropped.color), bytes(kept.color));
+  EXPECT_NE(dropped.stats.report().find("linear radiance image"), std::string::npos);
+  EXPECT_EQ(kept.stats.report().find("linear radiance image"), std::string::npos);
+}
+
 TEST(Renderer, InstancesOutsideTheViewAreCulledWithoutChangingTheImage) {
   Scene s;
   s.meshes.push_back(makeSphere(1.0f, 16, 32));
