@@ -97,7 +97,13 @@ glm::vec4 bilinear(const ImageRgba8& img, glm::vec2 uv) {
   const double xf = std::floor(x), yf = std::floor(y);
   const float fx = static_cast<float>(x - xf), fy = static_cast<float>(y - yf);
   auto wrap = [](double i, int n) {
-    if (i >= 0.0 && i < n) return static_cast<int>(i);  // the formula below's value, without a division
+    // i is a whole number. Below 2^30 in magnitude, with n below 2^23, i / n in double is within
+    // 2^-23 of the true quotient, which is a whole number or at least 1 / n from one: the floor
+    // below is exact, and the formula is the remainder in integers.
+    if (std::abs(i) < 1073741824.0 && n < (1 << 23)) {
+      const int r = static_cast<int>(static_cast<int64_t>(i) % n);
+      return r < 0 ? r + n : r;
+    }
     const double m = i - n * std::floor(i / n);  // in [0, n], n only through rounding
     const int k = static_cast<int>(m);
     return k >= n ? 0 : k;

@@ -174,6 +174,41 @@ TEST(Sample, WrapsWithRepeat) {
   expectNear(edge, (decoded(hashTexel(3, 0)) + decoded(hashTexel(0, 0))) * 0.5f);
 }
 
+TEST(Sample, RepeatWrapEqualsTheFloorFormulaBitForBit) {
+  // The lookup wraps texel indices with integer remainders below 2^30: the same bits as the double
+  // formula i - n * floor(i / n) it replaced, which this reference keeps, at any distance.
+  Texture t = makeTexture(5, 3, hashTexel);
+  auto reference = [&](glm::vec2 uv) {
+    const int w = 5, h = 3;
+    const double x = static_cast<double>(uv.x) * w - 0.5, y = static_cast<double>(uv.y) * h - 0.5;
+    const double xf = std::floor(x), yf = std::floor(y);
+    const float fx = static_cast<float>(x - xf), fy = static_cast<float>(y - yf);
+    auto wrap = [](double i, int n) {
+      const int k = static_cast<int>(i - n * std::floor(i / n));
+      return k >= n ? 0 : k;
+    };
+    const int x0 = wrap(xf, w), y0 = wrap(yf, h), x1 = (x0 + 1) % w, y1 = (y0 + 1) % h;
+    auto texel = [](int i, int j) {  // decoded as the lookup does: alpha times 1 / 255
+      const Rgba8 c = hashTexel(i, j);
+      return glm::vec4(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b), c.a * (1.0f / 255.0f));
+    };
+    const glm::vec4 t00 = texel(x0, y0), t10 = texel(x1, y0), t01 = texel(x0, y1), t11 = texel(x1, y1);
+    const glm::vec4 top = t00 + (t10 - t00) * fx, bottom = t01 + (t11 - t01) * fx;
+    return top + (bottom - top) * fy;
+  };
+  int checked = 0;
+  for (float base : {0.0f, 1.0f, -1.0f, 2.0f, -7.0f, 1e3f, -4.5e4f, 2.1e8f, -2.2e8f, 3e9f, -1e12f})
+    for (float frac : {0.0f, 0.05f, 0.1f, 0.5f, 0.77f, 0.9999f})
+      for (float v : {-2.6f, 0.4f, 0.99f, 31.2f}) {
+        const glm::vec2 uv(base + frac, v + frac);
+        const glm::vec4 got = sampleBilinear(t, uv, 0.0f), want = reference(uv);
+        for (int c = 0; c < 4; ++c)
+          ASSERT_EQ(std::bit_cast<uint32_t>(got[c]), std::bit_cast<uint32_t>(want[c])) << uv.x << "," << uv.y << " channel " << c;
+        ++checked;
+      }
+  EXPECT_EQ(checked, 264);
+}
+
 TEST(Sample, BlendsLevelsLinearlyAndClampsLod) {
   Texture t = makeTexture(2, 2, hashTexel);
   buildMips(t);
