@@ -101,7 +101,7 @@ glm::vec4 bilinear(const ImageRgba8& img, glm::vec2 uv) {
     // 2^-23 of the true quotient, which is a whole number or at least 1 / n from one: the floor
     // below is exact, and the formula is the remainder in integers.
     if (std::abs(i) < 1073741824.0 && n < (1 << 23)) {
-      const int r = static_cast<int>(static_cast<int64_t>(i) % n);
+      const int r = static_cast<int>(i) % n;
       return r < 0 ? r + n : r;
     }
     const double m = i - n * std::floor(i / n);  // in [0, n], n only through rounding
