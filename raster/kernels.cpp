@@ -4,6 +4,7 @@
 #include "raster/kernels.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -244,6 +245,15 @@ void buildSums(const Image<Pixel>& src, std::vector<Sum>& sums) {
 }
 
 // Clamps [x0, x1) x [y0, y1) to [0, w] x [0, h]; false if empty.
+// The finest k with (b >> k) - (a >> k) <= 1, for 0 <= a <= b. With d = b - a >= 2 and
+// 2^(L-1) <= d < 2^L: below L - 1 the span is at least d >> k >= 2, at L at most 1. So L - 1 or L.
+int spanLevel(int a, int b) {
+  const auto d = static_cast<unsigned>(b - a);
+  if (d <= 1) return 0;
+  const int k = std::bit_width(d) - 1;
+  return (b >> k) - (a >> k) <= 1 ? k : k + 1;
+}
+
 bool clampRect(int w, int h, int& x0, int& y0, int& x1, int& y1) {
   x0 = clampi(x0, 0, w);
   x1 = clampi(x1, 0, w);
@@ -336,11 +346,19 @@ void reduceLevel(const ImageFloat& src, ImageFloat& dst, Combine combine) {
 MinMaxPyramid buildMinMaxPyramid(const ImageFloat& depth) {
   MinMaxPyramid p;
   if (depth.empty()) return p;
-  p.mins.push_back(depth);
-  p.maxs.push_back(depth);
+  // Every level sized and first written by the tasks (Image::resizeParallel): a 1024^2 map's
+  // pyramid is 11 MB of fresh memory, whose page faults one thread would take alone.
+  p.mins.emplace_back().resizeParallel(depth.width(), depth.height());
+  p.maxs.emplace_back().resizeParallel(depth.width(), depth.height());
+  forRows(depth.paddedRows(), kRowGrain, [&](int y) {  // padding included: a copy of the image
+    std::copy(depth.row(y), depth.row(y) + depth.stride(), p.mins[0].row(y));
+    std::copy(depth.row(y), depth.row(y) + depth.stride(), p.maxs[0].row(y));
+  });
   while (p.mins.back().width() > 1 || p.mins.back().height() > 1) {
     const int w = half(p.mins.back().width()), h = half(p.mins.back().height());
-    ImageFloat mn(w, h), mx(w, h);
+    ImageFloat mn, mx;
+    mn.resizeParallel(w, h);
+    mx.resizeParallel(w, h);
     reduceLevel(p.mins.back(), mn, [](const float* v, int n) { return *std::min_element(v, v + n); });
     reduceLevel(p.maxs.back(), mx, [](const float* v, int n) { return *std::max_element(v, v + n); });
     p.mins.push_back(std::move(mn));
@@ -362,9 +380,9 @@ void queryMinMax(const MinMaxPyramid& pyramid, int x0, int y0, int x1, int y1, f
   const ImageFloat& base = pyramid.mins.front();
   if (!clampRect(base.width(), base.height(), x0, y0, x1, y1)) return;
   // Texel i of level k covers pixels [i << k, (i + 1) << k), so the rectangle's last pixel x1 - 1
-  // lies in texel (x1 - 1) >> k. The top level is 1x1, so the loop always ends.
-  int k = 0;
-  while ((((x1 - 1) >> k) - (x0 >> k)) > 1 || (((y1 - 1) >> k) - (y0 >> k)) > 1) ++k;
+  // lies in texel (x1 - 1) >> k: the finest level where both spans are at most 2 texels (spans
+  // only shrink with k, so the larger of the axes' levels; the top level is 1x1).
+  const int k = std::max(spanLevel(x0, x1 - 1), spanLevel(y0, y1 - 1));
   covered[0] = (x0 >> k) << k, covered[1] = (y0 >> k) << k;
   covered[2] = std::min((((x1 - 1) >> k) + 1) << k, base.width());
   covered[3] = std::min((((y1 - 1) >> k) + 1) << k, base.height());

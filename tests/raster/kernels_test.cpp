@@ -426,6 +426,28 @@ TEST(KernelsPyramid, QueryBoundsContainBruteForceAndAreExactForTexels) {
         EXPECT_EQ(mn, bmn) << "level " << k << " texel " << i << "," << j;
         EXPECT_EQ(mx, bmx) << "level " << k << " texel " << i << "," << j;
       }
+  // The level read is the finest where the rectangle spans at most 2x2 texels (the loop below, the
+  // definition), over every rectangle of a 1000 x 600 image with corners on a coarse lattice.
+  {
+    const int bw = 1000, bh = 600;
+    const MinMaxPyramid big = buildMinMaxPyramid(ImageFloat(bw, bh, 0.5f));
+    int compared = 0;
+    for (int x0 = 0; x0 < bw; x0 += 37)
+      for (int x1 = x0 + 1; x1 <= bw; x1 += 11)
+        for (int y0 = 0; y0 < bh; y0 += 41)
+          for (int y1 = y0 + 1; y1 <= bh; y1 += 29) {
+            int k = 0;
+            while ((((x1 - 1) >> k) - (x0 >> k)) > 1 || (((y1 - 1) >> k) - (y0 >> k)) > 1) ++k;
+            const int want[4] = {(x0 >> k) << k, (y0 >> k) << k, std::min((((x1 - 1) >> k) + 1) << k, bw),
+                                 std::min((((y1 - 1) >> k) + 1) << k, bh)};
+            float bmn = 0, bmx = 0;
+            int covered[4];
+            queryMinMax(big, x0, y0, x1, y1, bmn, bmx, covered);
+            for (int c = 0; c < 4; ++c) ASSERT_EQ(covered[c], want[c]) << x0 << "," << y0 << "," << x1 << "," << y1;
+            ++compared;
+          }
+    EXPECT_GT(compared, 200'000);
+  }
   float mn = 0, mx = 0;
   queryMinMax(MinMaxPyramid{}, 0, 0, 4, 4, mn, mx);
   EXPECT_EQ(mn, std::numeric_limits<float>::infinity());
