@@ -244,7 +244,6 @@ void buildSums(const Image<Pixel>& src, std::vector<Sum>& sums) {
   });
 }
 
-// Clamps [x0, x1) x [y0, y1) to [0, w] x [0, h]; false if empty.
 // The finest k with (b >> k) - (a >> k) <= 1, for 0 <= a <= b. With d = b - a >= 2 and
 // 2^(L-1) <= d < 2^L: below L - 1 the span is at least d >> k >= 2, at L at most 1. So L - 1 or L.
 int spanLevel(int a, int b) {
@@ -254,6 +253,7 @@ int spanLevel(int a, int b) {
   return (b >> k) - (a >> k) <= 1 ? k : k + 1;
 }
 
+// Clamps [x0, x1) x [y0, y1) to [0, w] x [0, h]; false if empty.
 bool clampRect(int w, int h, int& x0, int& y0, int& x1, int& y1) {
   x0 = clampi(x0, 0, w);
   x1 = clampi(x1, 0, w);
