@@ -1,5 +1,7 @@
 #include "raster/assemble.h"
 
+#include <bit>
+
 namespace penumbra::raster {
 
 Assembly clipTriangleToPolygon(const glm::vec4 c[3], const float* const vary[3], int nv, const GuardPlanes& guard,
@@ -30,7 +32,7 @@ namespace penumbra::raster {
 
 void assembleTriangles(const VertexStageOutput& vs, std::span<const uint32_t> indices, uint32_t vertexCount,
                        CullMode cull, const Viewport& vp, bool wantAttrs, uint64_t first, uint64_t last,
-                       AssembledChunk& out) {
+                       AssembledChunk& out, int64_t simd) {
   out.tris.clear();
   out.attrs.clear();
   out.clipVary.clear();
@@ -41,30 +43,53 @@ void assembleTriangles(const VertexStageOutput& vs, std::span<const uint32_t> in
   const int nv = vs.nv;
   const GuardPlanes guard = guardPlanes(vp);
 
-  // Setup of one triangle; vref: the varyings of its three vertices (kChunkLocalVarying: made by
-  // the clipper, in out.clipVary).
-  auto emit = [&](const ScreenVert& a, const ScreenVert& b, const ScreenVert& d, uint32_t prim, const uint32_t vref[3],
-                  bool clipped) {
+  // Triangles drawn as they are wait in a group and are set up kSetupGroup at a time in lanes,
+  // straight into out.tris; the group is flushed before a clipped triangle's pieces, so the order
+  // stays the submission order.
+  SetupGroupIn group{};
+  uint32_t groupIdx[kSetupGroup][3];
+  uint64_t verdicts[4] = {0, 0, 0, 0};  // per SetupResult
+  int grouped = 0;
+  auto flush = [&] {
+    if (grouped == 0) return;
+    const size_t base = out.tris.size();
+    out.tris.resize(base + static_cast<size_t>(grouped));
+    if (wantAttrs) out.attrs.resize(base + static_cast<size_t>(grouped));
+    const uint32_t kept = setupLanes(group, grouped, cull, vp, out.tris.data() + base,
+                                     wantAttrs ? out.attrs.data() + base : nullptr, verdicts, simd);
+    const size_t end = base + static_cast<size_t>(std::popcount(kept));
+    out.tris.resize(end);
+    if (wantAttrs) {
+      size_t i = base;
+      for (uint32_t m = kept; m != 0; m &= m - 1, ++i) {
+        SetupAttr& at = out.attrs[i];
+        const uint32_t* idx = groupIdx[std::countr_zero(m)];
+        for (int k = 0; k < 3; ++k) at.vary[k] = idx[at.order[k]];
+        at.clipped = false;
+      }
+      out.attrs.resize(end);
+    }
+    grouped = 0;
+  };
+  // Setup of one of the clipper's pieces on its own; vref: the chunk-local varyings of its
+  // vertices (kChunkLocalVarying, in out.clipVary).
+  auto emit = [&](const ScreenVert& a, const ScreenVert& b, const ScreenVert& d, uint32_t prim, const uint32_t vref[3]) {
     SetupTri t;
     SetupAttr at;
     int order[3];
     const SetupResult res = setupTriangle(a, b, d, cull, vp, t, wantAttrs ? &at : nullptr, order);
-    switch (res) {
-      case SetupResult::CulledFacing: ++st.trianglesCulledFacing; return;
-      case SetupResult::Degenerate: ++st.trianglesCulledDegenerate; return;
-      case SetupResult::NoSample: ++st.trianglesCulledNoSample; return;
-      case SetupResult::Ok: break;
-    }
+    ++verdicts[static_cast<int>(res)];
+    if (res != SetupResult::Ok) return;
     t.primitive = prim;
+    out.tris.push_back(t);
     if (wantAttrs) {
       for (int k = 0; k < 3; ++k) {
         at.vary[k] = vref[order[k]];
         at.order[k] = static_cast<uint8_t>(order[k]);
       }
-      at.clipped = clipped;
+      at.clipped = true;
       out.attrs.push_back(at);
     }
-    out.tris.push_back(t);
   };
 
   ClipPolygon poly;
@@ -86,9 +111,22 @@ void assembleTriangles(const VertexStageOutput& vs, std::span<const uint32_t> in
     switch (classifyTriangle(a.flags, b.flags, d.flags)) {
       case Assembly::Invalid: ++st.trianglesDroppedInvalid; continue;
       case Assembly::OutsideFrustum: ++st.trianglesCulledFrustum; continue;
-      case Assembly::Direct: emit(a, b, d, prim, idx, false); continue;
+      case Assembly::Direct: {
+        const ScreenVert* v[3] = {&a, &b, &d};
+        for (int k = 0; k < 3; ++k) {
+          group.x[k][grouped] = v[k]->x;
+          group.y[k][grouped] = v[k]->y;
+          group.z[k][grouped] = v[k]->z;
+          group.iw[k][grouped] = v[k]->iw;
+          groupIdx[grouped][k] = idx[k];
+        }
+        group.primitive[grouped] = prim;
+        if (++grouped == kSetupGroup) flush();
+        continue;
+      }
       default: break;
     }
+    flush();
     ++st.trianglesClipped;
     const glm::vec4 c[3] = {vs.clip[idx[0]], vs.clip[idx[1]], vs.clip[idx[2]]};
     const float* vary[3];
@@ -112,10 +150,14 @@ void assembleTriangles(const VertexStageOutput& vs, std::span<const uint32_t> in
       const uint32_t ref[3] = {(base + 0) | kChunkLocalVarying, (base + static_cast<uint32_t>(i)) | kChunkLocalVarying,
                                (base + static_cast<uint32_t>(i) + 1) | kChunkLocalVarying};
       const size_t before = out.tris.size();
-      emit(poly.screen[0], poly.screen[i], poly.screen[i + 1], prim, ref, true);
+      emit(poly.screen[0], poly.screen[i], poly.screen[i + 1], prim, ref);
       st.trianglesFromClipping += out.tris.size() - before;
     }
   }
+  flush();
+  st.trianglesCulledFacing += verdicts[static_cast<int>(SetupResult::CulledFacing)];
+  st.trianglesCulledDegenerate += verdicts[static_cast<int>(SetupResult::Degenerate)];
+  st.trianglesCulledNoSample += verdicts[static_cast<int>(SetupResult::NoSample)];
   st.trianglesBinned = out.tris.size();
 }
 

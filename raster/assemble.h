@@ -82,9 +82,11 @@ struct AssembledChunk {
 
 // Triangles [first, last) of a draw (indices: 3 per triangle, or empty for vertex i = 3t + k),
 // assembled and set up into `out`, which is cleared first. An index >= vertexCount drops its
-// triangle (counted with the non-finite ones).
+// triangle (counted with the non-finite ones). Triangles drawn as they are are set up in lanes
+// (setupLanes, with `simd`'s target), the clipper's pieces one by one (setupTriangle): the
+// same records either way.
 void assembleTriangles(const VertexStageOutput& vs, std::span<const uint32_t> indices, uint32_t vertexCount,
                        CullMode cull, const Viewport& vp, bool wantAttrs, uint64_t first, uint64_t last,
-                       AssembledChunk& out);
+                       AssembledChunk& out, int64_t simd = 0);
 
 }  // namespace penumbra::raster

@@ -21,7 +21,7 @@ Rasterizer::Rasterizer(const RasterConfig& config) : config_(config), arena_(are
   check(config.chunkTriangles >= 64 && config.chunkTriangles <= (1 << 20), "chunkTriangles must be in [64, 2^20]");
   check(config.batchChunks >= 0 && config.batchChunks <= (1 << 20), "batchChunks must be in [0, 2^20]");
   check(isSupportedSimdTarget(config.simd.tile) && isSupportedSimdTarget(config.simd.splat) &&
-            isSupportedSimdTarget(config.simd.taps),
+            isSupportedSimdTarget(config.simd.taps) && isSupportedSimdTarget(config.simd.setup),
         "simd targets must be 0 or supported by this CPU (supportedSimdTargets)");
 }
 
@@ -39,10 +39,7 @@ void Rasterizer::clear(DepthTarget& depth, float value) {
 void Rasterizer::reproject(const Viewport& vp) {
   const GuardPlanes guard = guardPlanes(vp);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, clip_.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const glm::vec4& c = clip_[i];
-      screen_[i] = projectVertex(c.x, c.y, c.z, c.w, vp, guard);
-    }
+    projectVertices(&clip_[r.begin()].x, r.size(), vp, guard, &screen_[r.begin()], config_.simd.setup);
   });
 }
 
@@ -81,7 +78,8 @@ void Rasterizer::frontEnd(const DrawDesc& desc, const Viewport& vp, bool wantAtt
     for (size_t ci = r.begin(); ci != r.end(); ++ci) {
       const uint64_t first = batchFirst + ci * chunkSize, last = std::min(batchLast, first + chunkSize);
       AssembledChunk& c = chunks_[ci];
-      assembleTriangles(vs, desc.indices, desc.vertexCount, desc.cull, vp, wantAttrs, first, last, c);
+      assembleTriangles(vs, desc.indices, desc.vertexCount, desc.cull, vp, wantAttrs, first, last, c,
+                        config_.simd.setup);
       binRects(
           grid_, static_cast<uint32_t>(c.tris.size()),
           [&](uint32_t i) {

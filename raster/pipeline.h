@@ -1,8 +1,8 @@
 // Rasterizer: the pipeline of raster/ (DESIGN.md "The pipeline"), stage by stage, each in its
 // own file and callable on its own:
 //
-//   vertex   user functor per vertex -> clip position (+ varyings); projected and snapped
-//            (setup.h projectVertex); non-finite positions flagged and counted.
+//   vertex   user functor per vertex -> clip position (+ varyings); projected and snapped in SIMD
+//            lanes (setup.h projectVertices); non-finite positions flagged and counted.
 //   assemble per triangle, in parallel fixed-size chunks (assemble.h): frustum reject, homogeneous
 //            clipping for the triangles that need it (clip.h), then setup (setup.h): snapping,
 //            facing and zero-area culling, exact edge functions.
@@ -147,6 +147,9 @@ class Rasterizer {
 // ---------------------------------------------------------------------------------------------
 // Templates.
 
+// projectVertices reads the clip positions as 4 floats each.
+static_assert(sizeof(glm::vec4) == 4 * sizeof(float));
+
 template <class VS, bool kVary>
 void Rasterizer::vertexStage(uint32_t count, int nv, VS& vs, const Viewport& vp, PassStats& stats) {
   clip_.resize(count);
@@ -158,17 +161,13 @@ void Rasterizer::vertexStage(uint32_t count, int nv, VS& vs, const Viewport& vp,
       tbb::blocked_range<uint32_t>(0, count, 4096), uint64_t{0},
       [&](const tbb::blocked_range<uint32_t>& r, uint64_t bad) {
         for (uint32_t i = r.begin(); i != r.end(); ++i) {
-          glm::vec4 c;
           if constexpr (kVary) {
-            c = vs(i, vary_.data() + static_cast<size_t>(i) * static_cast<size_t>(nv));
+            clip_[i] = vs(i, vary_.data() + static_cast<size_t>(i) * static_cast<size_t>(nv));
           } else {
-            c = vs(i);
+            clip_[i] = vs(i);
           }
-          clip_[i] = c;
-          screen_[i] = projectVertex(c.x, c.y, c.z, c.w, vp, guard);
-          bad += (screen_[i].flags & kNonFinite) ? 1 : 0;
         }
-        return bad;
+        return bad + projectVertices(&clip_[r.begin()].x, r.size(), vp, guard, &screen_[r.begin()], config_.simd.setup);
       },
       [](uint64_t a, uint64_t b) { return a + b; });
 }

@@ -5,6 +5,7 @@
 // Thread-safety: every function here is pure; safe to call from any thread.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "raster/conventions.h"
@@ -61,6 +62,10 @@ inline void guardDistances(const GuardPlanes& g, double x, double y, double w, d
 ScreenVert projectVertex(float x, float y, float z, float w, const Viewport& vp, const GuardPlanes& guard);
 // The same flags and snapped x, y, without z and 1/w (left 0): what coverage alone needs.
 ScreenVert projectVertexXY(float x, float y, float z, float w, const Viewport& vp, const GuardPlanes& guard);
+// projectVertex for n vertices in SIMD lanes (setup_lanes.cpp, SimdChoice::setup's target), bit for
+// bit: clip holds x, y, z, w of each vertex (4n floats). Returns how many are non-finite.
+uint64_t projectVertices(const float* clip, size_t n, const Viewport& vp, const GuardPlanes& guard, ScreenVert* out,
+                         int64_t simd);
 // A vertex made by the clipper (double precision, w > 0, on or inside every plane up to rounding):
 // its screen position is clamped into the guard band before snapping.
 ScreenVert projectClipped(const double p[4], const Viewport& vp);
@@ -115,6 +120,27 @@ enum class SetupResult : uint8_t { Ok, CulledFacing, Degenerate, NoSample };
 // index (0..2) of each ordered vertex.
 SetupResult setupTriangle(const ScreenVert& v0, const ScreenVert& v1, const ScreenVert& v2, CullMode cull,
                           const Viewport& vp, SetupTri& out, SetupAttr* attr, int order[3]);
+
+// Setup of a group of triangles in SIMD lanes (setup_lanes.cpp, one Highway target per
+// SimdChoice::setup): bounding box, zero-area and facing culls, vertex order and the planes of
+// kSetupGroup triangles at once. The records are those setupTriangle makes, bit for bit: every
+// integer quantity setupTriangle forms in int64 (the doubled area, the edge values at the plane
+// origin) is below 2^50 (conventions.h bounds coordinates by 2^23), so the lanes form it exactly in
+// double, and the planes repeat setupTriangle's double operations in its order, without FMA.
+inline constexpr int kSetupGroup = 16;  // a multiple of every target's lane count
+struct SetupGroupIn {                   // the triangles' vertices as submitted, one array per field
+  alignas(64) int32_t x[3][kSetupGroup];
+  alignas(64) int32_t y[3][kSetupGroup];
+  alignas(64) float z[3][kSetupGroup];
+  alignas(64) float iw[3][kSetupGroup];
+  uint32_t primitive[kSetupGroup];
+};
+// Sets up lanes 0 .. n-1 of `in` (n <= kSetupGroup) with `simd`'s target (simd.h). The triangles
+// setup keeps are written to tris[0 ..) in lane order (with their primitive) and, when attrs is not
+// null, their planes, order and frontFacing to attrs[0 ..) (vary and clipped left to the caller).
+// Returns the kept lanes as a bit mask; verdicts[r] counts the lanes with SetupResult r.
+uint32_t setupLanes(const SetupGroupIn& in, int n, CullMode cull, const Viewport& vp, SetupTri* tris,
+                    SetupAttr* attrs, uint64_t verdicts[4], int64_t simd);
 
 // Edge value of edge k at pixel (i, j), exact, bias applied: inside iff >= 0 for all k.
 inline int64_t edgeAt(const SetupTri& t, const EdgeCoefficients& e, int k, int64_t i, int64_t j) {

@@ -1,7 +1,8 @@
-// SIMD targets. Each family of hot loops -- the tile stage (tile_kernels.cpp), point splatting
-// (splat.cpp), the shadow-map tap kernels (shadows/kernel_taps.cpp) -- is written once over
-// Highway's lane types, compiled for every x86 target Highway knows (SSE2 to AVX-512 and a scalar
-// fallback) and dispatched at run time.
+// SIMD targets. Each family of hot loops -- vertex projection and triangle setup
+// (setup_lanes.cpp), the tile stage (tile_kernels.cpp), point splatting (splat.cpp), the
+// shadow-map tap kernels (shadows/kernel_taps.cpp) -- is written once over Highway's lane types,
+// compiled for every x86 target Highway knows (SSE2 to AVX-512 and a scalar fallback) and
+// dispatched at run time.
 //
 // Which target a family runs is a value, SimdChoice, carried by whatever runs it (RasterConfig::simd
 // for a Rasterizer's passes and the techniques that run in its arena): never process state, so a
@@ -23,6 +24,7 @@ struct SimdChoice {
   int64_t tile = 0;   // the tile stage's coverage and depth test
   int64_t splat = 0;  // point projection of the splatter
   int64_t taps = 0;   // shadow-map tap kernels (PCF, PCSS)
+  int64_t setup = 0;  // vertex projection and triangle setup in lanes (projectVertices, setupLanes)
 };
 
 // The targets compiled in and supported by this CPU, best first, and their names.

@@ -38,12 +38,12 @@ Soup randomSoup(int tris, uint64_t seed) {
 
 // Renders color (RGBA8) and depth; returns the bytes of both.
 std::vector<uint8_t> render(const Soup& s, int threads, int tileLog2, int chunk, PassStats* stats = nullptr,
-                            int batchChunks = 0, int64_t tileTarget = 0) {
+                            int batchChunks = 0, int64_t target = 0) {
   Rasterizer r({.threads = threads,
                 .tileLog2 = tileLog2,
                 .chunkTriangles = chunk,
                 .batchChunks = batchChunks,
-                .simd = {.tile = tileTarget}});
+                .simd = {.tile = target, .setup = target}});
   DepthTarget depth(kW, kH, 1.0f);
   ImageRgba8 color(kW, kH);
   DrawDesc d;
@@ -103,6 +103,7 @@ TEST(Determinism, SimdChoiceBelongsToTheRasterizer) {
   EXPECT_EQ(b, best);
   EXPECT_THROW(Rasterizer({.simd = {.tile = 3}}), std::invalid_argument);  // two targets at once
   EXPECT_THROW(Rasterizer({.simd = {.taps = -1}}), std::invalid_argument);
+  EXPECT_THROW(Rasterizer({.simd = {.setup = 3}}), std::invalid_argument);
   // Dispatch by index runs the target asked for (the index serves every kernel family's table).
   for (int64_t t : targets) EXPECT_EQ(simdTargetRun(t), t) << simdTargetName(t);
   EXPECT_EQ(simdTargetRun(0), targets.front());

@@ -3,7 +3,10 @@
 // equal to Rasterizer::drawDepth, and fragments told their tile.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <random>
+#include <utility>
 
 #include "tests/raster/test_util.h"
 
@@ -104,6 +107,164 @@ TEST(Assemble, CountsEveryOutcomeAndClipsAcrossTheNearPlane) {
     EXPECT_GE(out.tris[i].zmin, 0.0f);
   }
   EXPECT_FALSE(out.clipVary.empty());
+}
+
+// Projection in lanes equals projectVertex bit for bit on every SIMD target: flags (frustum,
+// guard band, non-finite), snapped positions (rounding ties included: positions with few mantissa
+// bits land on half subpixels), z / w and 1 / w, for any count (partial last vectors).
+TEST(ProjectVertices, EqualProjectVertexBitForBitOnEveryTarget) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  const float specials[] = {NAN, INFINITY, -INFINITY, 0.0f, -0.0f, 1e-30f, -1e30f};
+  const Viewport vps[] = {{kW, kH}, {2048, 2048}, {1, 1}, {kW, kH, 16, -48}};
+  std::vector<float> clip;
+  auto coordinate = [&](float w, int kind) {
+    switch (kind) {
+      case 0: return u(rng) * w * 1.2f;                                              // on screen, or just off
+      case 1: return static_cast<float>(static_cast<int>(rng() % 8193) - 4096) / 4096.0f * w;  // half subpixels
+      case 2: return u(rng) * w * 5000.0f;                                           // near the guard band
+      default: return specials[rng() % 7];
+    }
+  };
+  for (int i = 0; i < 20000; ++i) {
+    const float w = rng() % 16 == 0 ? specials[rng() % 7] * (rng() % 2 ? 1.0f : -1.0f)
+                                    : (rng() % 4 == 0 ? static_cast<float>(1 << (rng() % 3)) : 0.01f + 50.0f * (u(rng) + 1.0f));
+    const int kind = rng() % 32 == 0 ? 3 : static_cast<int>(rng() % 3);
+    clip.push_back(coordinate(w, kind));
+    clip.push_back(coordinate(w, kind));
+    clip.push_back(rng() % 8 == 0 ? specials[rng() % 7] : (u(rng) + 0.3f) * w);
+    clip.push_back(w);
+  }
+  const size_t total = clip.size() / 4;
+  size_t outside = 0, nonFinite = 0, guardOut = 0;
+  for (int64_t target : supportedSimdTargets()) {
+    for (const Viewport& vp : vps) {
+      const GuardPlanes guard = guardPlanes(vp);
+      std::vector<ScreenVert> got(total);
+      uint64_t bad = 0;
+      for (size_t first = 0, n = 1; first < total; first += n, n = n % 37 + 1)
+        bad += projectVertices(clip.data() + 4 * first, std::min(n, total - first), vp, guard, got.data() + first, target);
+      uint64_t wantBad = 0;
+      for (size_t i = 0; i < total; ++i) {
+        const float* c = clip.data() + 4 * i;
+        const ScreenVert want = projectVertex(c[0], c[1], c[2], c[3], vp, guard);
+        wantBad += (want.flags & kNonFinite) ? 1 : 0;
+        outside += (want.flags & kFrustumMask) ? 1 : 0;
+        nonFinite += (want.flags & kNonFinite) ? 1 : 0;
+        guardOut += (want.flags & kOutGuard) ? 1 : 0;
+        ASSERT_EQ(std::memcmp(&want, &got[i], sizeof want), 0)
+            << simdTargetName(target) << " vertex " << i << ": " << c[0] << ", " << c[1] << ", " << c[2] << ", " << c[3]
+            << " want " << want.x << ", " << want.y << ", " << want.flags << " got " << got[i].x << ", " << got[i].y << ", "
+            << got[i].flags;
+      }
+      ASSERT_EQ(bad, wantBad) << simdTargetName(target);
+    }
+  }
+  EXPECT_GT(outside, 1000u);
+  EXPECT_GT(nonFinite, 1000u);
+  EXPECT_GT(guardOut, 1000u);
+}
+
+// Setup in lanes makes setupTriangle's records bit for bit, on every SIMD target: verdicts, vertex
+// order, bounding boxes, planes and depth ranges, for triangles from a few subpixels to the guard
+// band, on and off the pixel grid (edges through pixel centres, planes whose origin lies on an
+// edge), degenerate ones, depths of +0 and -0 and equal depths, each cull mode, with and without
+// the attribute planes.
+TEST(SetupLanes, EqualSetupTriangleBitForBitOnEveryTarget) {
+  std::mt19937_64 rng(17);
+  std::uniform_int_distribution<int32_t> anywhere(-(1 << 23), 1 << 23);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const Viewport vps[] = {{kW, kH}, {2048, 2048}, {1, 1}, {kW, kH, 16, -48}};
+  const float depths[] = {0.0f, -0.0f, 0.5f, -0.25f};  // negative: not from the pipeline, but exact too
+  auto coordinate = [&](int kind, int32_t base, int extent) -> int32_t {
+    const int32_t off = static_cast<int32_t>(rng() % static_cast<uint64_t>(2 * extent + 1)) - extent;
+    switch (kind) {
+      case 0: return base + off;                      // anywhere near the base
+      case 1: return (base + off) & ~(kSubpixelOne - 1);  // on the pixel grid
+      default: return anywhere(rng);                  // anywhere in the guard band
+    }
+  };
+  auto depth = [&] { return rng() % 2 == 0 ? depths[rng() % 4] : unit(rng); };
+  uint64_t counts[4] = {0, 0, 0, 0};
+  for (int64_t target : supportedSimdTargets()) {
+    rng.seed(17);
+    for (int g = 0; g < 4000; ++g) {
+      const Viewport& vp = vps[g % 4];
+      const CullMode cull = static_cast<CullMode>(g % 3);
+      const bool attrs = (g / 3) % 2 == 0;
+      const int n = 1 + static_cast<int>(rng() % kSetupGroup);
+      SetupGroupIn in{};
+      ScreenVert v[kSetupGroup][3];
+      for (int l = 0; l < n; ++l) {
+        const int kind = static_cast<int>(rng() % 3);
+        const int extent = rng() % 2 ? 3 * kSubpixelOne : 40 * kSubpixelOne;
+        const int32_t bx = static_cast<int32_t>(rng() % static_cast<uint64_t>(vp.width + 2) * kSubpixelOne) - kSubpixelOne;
+        const int32_t by = static_cast<int32_t>(rng() % static_cast<uint64_t>(vp.height + 2) * kSubpixelOne) - kSubpixelOne;
+        for (int k = 0; k < 3; ++k) {
+          v[l][k].x = coordinate(kind, bx, extent);
+          v[l][k].y = coordinate(kind, by, extent);
+          v[l][k].z = depth();
+          v[l][k].iw = rng() % 4 == 0 ? 1.0f : rng() % 16 == 0 ? 3e38f : 0.1f + 10.0f * unit(rng);  // 3e38: planes overflow
+        }
+        if (rng() % 4 == 0) {  // a right triangle on the pixel grid, its corner on a pixel centre
+          const int32_t cx = bx & ~(kSubpixelOne - 1), cy = by & ~(kSubpixelOne - 1);
+          const int32_t dx = (static_cast<int32_t>(rng() % 9) - 4) * kSubpixelOne;
+          const int32_t dy = (static_cast<int32_t>(rng() % 9) - 4) * kSubpixelOne;
+          const int r = static_cast<int>(rng() % 3);
+          v[l][r].x = cx, v[l][r].y = cy;
+          v[l][(r + 1) % 3].x = cx + dx, v[l][(r + 1) % 3].y = cy;
+          v[l][(r + 2) % 3].x = cx, v[l][(r + 2) % 3].y = cy + dy;
+          if (rng() % 2) {  // the third vertex less than a pixel above the grid row: the plane's
+                            // origin lies on the horizontal edge, away from its vertices
+            v[l][(r + 2) % 3].x = cx + static_cast<int32_t>(rng() % 601) - 300;
+            v[l][(r + 2) % 3].y = cy - 1 - static_cast<int32_t>(rng() % (kSubpixelOne - 1));
+          }
+          if (rng() % 2)  // or the same, transposed
+            for (int k = 0; k < 3; ++k) std::swap(v[l][k].x, v[l][k].y);
+        }
+        if (rng() % 8 == 0) v[l][2] = v[l][rng() % 2];  // a repeated vertex
+        if (rng() % 8 == 0) {                           // collinear
+          v[l][2].x = 2 * v[l][1].x - v[l][0].x;
+          v[l][2].y = 2 * v[l][1].y - v[l][0].y;
+        }
+        for (int k = 0; k < 3; ++k) {
+          in.x[k][l] = v[l][k].x, in.y[k][l] = v[l][k].y;
+          in.z[k][l] = v[l][k].z, in.iw[k][l] = v[l][k].iw;
+        }
+      }
+      for (int l = 0; l < n; ++l) in.primitive[l] = static_cast<uint32_t>(g * kSetupGroup + l);
+      SetupTri tris[kSetupGroup];
+      SetupAttr attrsOut[kSetupGroup];
+      uint64_t verdicts[4] = {0, 0, 0, 0};
+      const uint32_t kept = setupLanes(in, n, cull, vp, tris, attrs ? attrsOut : nullptr, verdicts, target);
+      uint64_t wantVerdicts[4] = {0, 0, 0, 0};
+      int j = 0;  // the next kept record
+      for (int l = 0; l < n; ++l) {
+        SetupTri t;
+        SetupAttr a;
+        int order[3];
+        const SetupResult want = setupTriangle(v[l][0], v[l][1], v[l][2], cull, vp, t, attrs ? &a : nullptr, order);
+        ++wantVerdicts[static_cast<int>(want)];
+        ++counts[static_cast<int>(want)];
+        ASSERT_EQ((kept >> l) & 1, want == SetupResult::Ok ? 1u : 0u) << simdTargetName(target) << " group " << g << " lane " << l;
+        if (want != SetupResult::Ok) continue;
+        t.primitive = in.primitive[l];
+        ASSERT_EQ(std::memcmp(&t, &tris[j], sizeof t), 0) << simdTargetName(target) << " group " << g << " lane " << l;
+        if (attrs) {
+          const SetupAttr& b = attrsOut[j];
+          const float wantPlanes[9] = {a.sw0, a.swx, a.swy, a.s10, a.s1x, a.s1y, a.s20, a.s2x, a.s2y};
+          const float gotPlanes[9] = {b.sw0, b.swx, b.swy, b.s10, b.s1x, b.s1y, b.s20, b.s2x, b.s2y};
+          ASSERT_EQ(std::memcmp(wantPlanes, gotPlanes, sizeof wantPlanes), 0) << simdTargetName(target) << " group " << g;
+          for (int k = 0; k < 3; ++k) ASSERT_EQ(b.order[k], order[k]);
+          ASSERT_EQ(b.frontFacing, a.frontFacing);
+        }
+        ++j;
+      }
+      for (int r = 0; r < 4; ++r) ASSERT_EQ(verdicts[r], wantVerdicts[r]) << simdTargetName(target) << " group " << g;
+    }
+  }
+  // Every verdict was exercised.
+  for (uint64_t c : counts) EXPECT_GT(c, 100u);
 }
 
 // vertex -> assemble -> bin -> tile, by hand, gives the depth that drawDepth gives.
