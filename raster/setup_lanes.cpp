@@ -4,7 +4,7 @@
 // projectVertices: one lane per vertex, the projection in double lanes with projectVertex's
 // operations in its order; lrint (round to nearest even, the default mode) is Round.
 //
-// One lane per triangle, as many lanes as the target holds doubles (2 on SSE, 4 on AVX2, 8 on
+// setupLanes: one lane per triangle, as many lanes as the target holds doubles (2 on SSE, 4 on AVX2, 8 on
 // AVX-512). Bounding boxes are int32 lanes; the doubled area, the edge values and the planes are
 // double lanes: every integer setupTriangle forms in int64 is below 2^50 in magnitude, so the
 // double operations here give it exactly, and the planes repeat setupTriangle's operations in the
@@ -57,7 +57,7 @@ struct Lanes {
 }  // namespace
 
 uint32_t SetupLanesImpl(const SetupGroupIn& in, int n, CullMode cull, const Viewport& vp, SetupTri* tris,
-                            SetupAttr* attrs, uint64_t verdicts[4]) {
+                        SetupAttr* attrs, uint64_t verdicts[4]) {
   const bool wantAttrs = attrs != nullptr;
   const hn::ScalableTag<double> dd;
   const hn::Rebind<int32_t, decltype(dd)> di;
