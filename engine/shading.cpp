@@ -34,9 +34,10 @@ uint8_t display(float c, float exposure, ToneMap map) {
   return linearToSrgb(x);
 }
 
-// Radiance towards the eye of one G-buffer texel; vy: its row in the visibility images.
+// Radiance towards the eye of one G-buffer texel; vy: its row in the visibility images. factors:
+// irradianceFactor of area light i at factors[i * stride] (RowFactors), or nullptr to compute it.
 glm::vec3 shadeTexel(const Scene& scene, const glm::vec3& eye, const std::vector<raster::ImageFloat>& visibility,
-                     const GBufferTexel& g, int x, int vy) {
+                     const GBufferTexel& g, int x, int vy, const float* factors = nullptr, size_t stride = 0) {
   const Material& mat = gbufferMaterial(scene, g.material);
   const glm::vec3 v = glm::normalize(eye - g.position);
   glm::vec3 c = scene.ambient * g.albedo;
@@ -72,7 +73,7 @@ glm::vec3 shadeTexel(const Scene& scene, const glm::vec3& eye, const std::vector
   for (size_t li = 0; li < scene.areaLights.size(); ++li) {
     const shadows::RectLight& al = scene.areaLights[li];
     // Diffuse: rho / pi * E with E = radiance * irradianceFactor (exact, unshadowed), times V.
-    const float factor = shadows::irradianceFactor(al, g.position, g.normal);
+    const float factor = factors ? factors[li * stride] : shadows::irradianceFactor(al, g.position, g.normal);
     if (factor <= 0.0f) continue;
     const glm::vec3 e = al.color * (al.intensity * factor * visibility[li].at(x, vy));
     c += g.albedo * e * (1.0f / std::numbers::pi_v<float>);
@@ -86,6 +87,31 @@ glm::vec3 shadeTexel(const Scene& scene, const glm::vec3& eye, const std::vector
   }
   return c;
 }
+
+// The area lights' irradianceFactor for every texel of a G-buffer row, in SIMD lanes
+// (shadows::irradianceFactors, bit for bit the per-texel function): the row's positions and shading
+// normals are copied to coordinate arrays first. Background texels get a value nobody reads.
+class RowFactors {
+ public:
+  const float* compute(const Scene& scene, const raster::Image<GBufferTexel>& gbuffer, int y, int64_t simd) {
+    const size_t w = static_cast<size_t>(gbuffer.width());
+    buffer_.resize(w * (6 + scene.areaLights.size()));
+    float* soa = buffer_.data();
+    for (size_t x = 0; x < w; ++x) {
+      const GBufferTexel& g = gbuffer.at(static_cast<int>(x), y);
+      soa[x] = g.position.x, soa[w + x] = g.position.y, soa[2 * w + x] = g.position.z;
+      soa[3 * w + x] = g.normal.x, soa[4 * w + x] = g.normal.y, soa[5 * w + x] = g.normal.z;
+    }
+    const shadows::SurfacePoints points{soa, soa + w, soa + 2 * w, soa + 3 * w, soa + 4 * w, soa + 5 * w};
+    float* out = soa + 6 * w;
+    for (size_t li = 0; li < scene.areaLights.size(); ++li)
+      shadows::irradianceFactors(scene.areaLights[li], points, static_cast<int>(w), out + li * w, simd);
+    return out;
+  }
+
+ private:
+  std::vector<float> buffer_;
+};
 
 }  // namespace
 
@@ -104,14 +130,18 @@ void shadeFrame(raster::Rasterizer& raster, const Scene& scene, const FramePlan&
   const bool plain = plan.exposureScale == 1.0f && plan.toneMap == ToneMap::None;  // the bytes as without them
   raster.run([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
-      for (int y = rows.begin(); y != rows.end(); ++y)
+      RowFactors rowFactors;
+      for (int y = rows.begin(); y != rows.end(); ++y) {
+        const float* factors = !layered && !scene.areaLights.empty()
+                                   ? rowFactors.compute(scene, frame.gbuffer, y, raster.config().simd.shade)
+                                   : nullptr;
         for (int x = 0; x < w; ++x) {
           glm::vec3 c = scene.background;
           float alpha = 0.0f;
           if (!layered) {
             const GBufferTexel& g = frame.gbuffer.at(x, y);
             if (g.material >= 0) {
-              c = shadeTexel(scene, eye, visibility, g, x, y);
+              c = shadeTexel(scene, eye, visibility, g, x, y, factors ? factors + x : nullptr, static_cast<size_t>(w));
               alpha = 1.0f;
             }
           } else {
@@ -143,6 +173,7 @@ void shadeFrame(raster::Rasterizer& raster, const Scene& scene, const FramePlan&
                                                  display(c.y, plan.exposureScale, plan.toneMap),
                                                  display(c.z, plan.exposureScale, plan.toneMap), 255};
         }
+      }
     });
   });
   frame.stats.msShade = raster::msSince(t0);

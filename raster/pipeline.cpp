@@ -21,7 +21,8 @@ Rasterizer::Rasterizer(const RasterConfig& config) : config_(config), arena_(are
   check(config.chunkTriangles >= 64 && config.chunkTriangles <= (1 << 20), "chunkTriangles must be in [64, 2^20]");
   check(config.batchChunks >= 0 && config.batchChunks <= (1 << 20), "batchChunks must be in [0, 2^20]");
   check(isSupportedSimdTarget(config.simd.tile) && isSupportedSimdTarget(config.simd.splat) &&
-            isSupportedSimdTarget(config.simd.taps) && isSupportedSimdTarget(config.simd.setup),
+            isSupportedSimdTarget(config.simd.taps) && isSupportedSimdTarget(config.simd.setup) &&
+            isSupportedSimdTarget(config.simd.shade),
         "simd targets must be 0 or supported by this CPU (supportedSimdTargets)");
 }
 

@@ -25,6 +25,7 @@ struct SimdChoice {
   int64_t splat = 0;  // point projection of the splatter
   int64_t taps = 0;   // shadow-map tap kernels (PCF, PCSS)
   int64_t setup = 0;  // vertex projection and triangle setup in lanes (projectVertices, setupLanes)
+  int64_t shade = 0;  // per-pixel shading kernels (shadows::irradianceFactors)
 };
 
 // The targets compiled in and supported by this CPU, best first, and their names.

@@ -59,6 +59,24 @@ float horizonFraction(const RectLight& light, glm::vec3 x, glm::vec3 n) {
   return static_cast<float>(std::clamp(0.5 * std::abs(area) / full, 0.0, 1.0));
 }
 
+float lambertAtan2(float y, float x) {
+  using namespace lambert;
+  const float ax = std::fabs(x);
+  const bool steep = ax < y;
+  const float t = (steep ? ax : y) / (steep ? y : ax);
+  const bool reduced = kTanPi8 < t;
+  const float u = reduced ? (t - 1.0f) / (t + 1.0f) : t;
+  const float z = u * u;
+  float p = kP0 * z - kP1;
+  p = p * z + kP2;
+  p = p * z - kP3;
+  p = p * z * u + u;
+  float r = reduced ? kPi4 + p : p;
+  if (steep) r = kPi2 - r;
+  if (x < 0.0f) r = kPi - r;
+  return r;
+}
+
 float irradianceFactor(const RectLight& light, glm::vec3 x, glm::vec3 n) {
   const glm::vec3 ln = light.normal();
   if (glm::dot(x - light.center, ln) <= 0.0f) return 0.0f;  // behind the emitting side
@@ -76,7 +94,8 @@ float irradianceFactor(const RectLight& light, glm::vec3 x, glm::vec3 n) {
   }
   if (m < 3) return 0.0f;
   // Lambert: (1/2) * sum over edges of angle(p_k, p_k+1) * dot(n, unit(cross(p_k, p_k+1))). In
-  // float: each term is within a few ulps, far below what shading can show (tests: 1e-5).
+  // float: each term is within a few ulps, far below what shading can show (tests: 1e-5). The
+  // lanes of irradianceFactors repeat these operations for unclipped rectangles (m = 4).
   float sum = 0.0f;
   glm::vec3 u[8];
   for (int k = 0; k < m; ++k) u[k] = poly[k] * (1.0f / std::sqrt(glm::dot(poly[k], poly[k])));
@@ -85,7 +104,7 @@ float irradianceFactor(const RectLight& light, glm::vec3 x, glm::vec3 n) {
     const glm::vec3 cr = glm::cross(a, b);
     const float s = std::sqrt(glm::dot(cr, cr));
     if (!(s > 0.0f)) continue;
-    sum += std::atan2(s, glm::dot(a, b)) * (glm::dot(n, cr) / s);
+    sum += lambertAtan2(s, glm::dot(a, b)) * (glm::dot(n, cr) / s);
   }
   return std::min(std::abs(0.5f * sum), 3.14159265f);
 }

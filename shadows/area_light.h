@@ -46,7 +46,36 @@ bool makeRectLight(glm::vec3 center, glm::vec3 facing, glm::vec3 widthHint, floa
 // and 0 when x is behind the light. The unshadowed irradiance is E = radiance * this; a Lambertian
 // receiver of albedo rho reflects rho / pi * E. Exact (Lambert's polygon formula, the rectangle
 // clipped to x's hemisphere), in [0, pi].
+// Float operations only, no libm call, so that irradianceFactors below gives the same bits in SIMD
+// lanes on every target; the angles come from lambertAtan2 (within 3 ulps of double atan2
+// rounded to float: tests).
 float irradianceFactor(const RectLight& light, glm::vec3 x, glm::vec3 n);
+
+// atan2(y, x) for y > 0, in (0, pi]: |x| and y ordered so that t = min / max is in [0, 1], t
+// reduced to [-tan(pi/8), tan(pi/8)] by atan(t) = pi/4 + atan((t - 1) / (t + 1)) above tan(pi/8),
+// Cephes' atanf polynomial there, then pi/2 - r where y > |x| and pi - r where x < 0. Written as
+// the operations irradianceFactors' lanes repeat (no FMA: the project builds with
+// -ffp-contract=off).
+float lambertAtan2(float y, float x);
+
+// Points and unit normals as separate coordinate arrays (n of each).
+struct SurfacePoints {
+  const float *px, *py, *pz, *nx, *ny, *nz;
+};
+
+// out[i] = irradianceFactor(light, p_i, n_i), bit for bit, for i < n: 16 points at a time in SIMD
+// lanes (the SIMD target `simd` names, raster/simd.h; 0 = the best this CPU has). A lane whose
+// rectangle crosses its tangent plane (the polygon is clipped) and the last n mod lanes are handed
+// to irradianceFactor itself.
+void irradianceFactors(const RectLight& light, const SurfacePoints& points, int n, float* out, int64_t simd = 0);
+
+// The constants of lambertAtan2, shared with its SIMD lanes.
+namespace lambert {
+inline constexpr float kTanPi8 = 0.41421356f;
+inline constexpr float kP0 = 8.05374449538e-2f, kP1 = 1.38776856032e-1f, kP2 = 1.99777106478e-1f,
+                       kP3 = 3.33329491539e-1f;
+inline constexpr float kPi4 = 0.785398163f, kPi2 = 1.57079633f, kPi = 3.14159265f;
+}  // namespace lambert
 
 // The fraction of the light's area above x's tangent plane (dot(n, y - x) > 0), in [0, 1]; 0 when x
 // is behind the light. A closed surface blocks the rest itself, so V(x) <= horizonFraction(x):

@@ -104,6 +104,7 @@ TEST(Determinism, SimdChoiceBelongsToTheRasterizer) {
   EXPECT_THROW(Rasterizer({.simd = {.tile = 3}}), std::invalid_argument);  // two targets at once
   EXPECT_THROW(Rasterizer({.simd = {.taps = -1}}), std::invalid_argument);
   EXPECT_THROW(Rasterizer({.simd = {.setup = 3}}), std::invalid_argument);
+  EXPECT_THROW(Rasterizer({.simd = {.shade = 3}}), std::invalid_argument);
   // Dispatch by index runs the target asked for (the index serves every kernel family's table).
   for (int64_t t : targets) EXPECT_EQ(simdTargetRun(t), t) << simdTargetName(t);
   EXPECT_EQ(simdTargetRun(0), targets.front());
