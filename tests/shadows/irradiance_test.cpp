@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -140,7 +141,9 @@ TEST(Irradiance, PolygonFormulaWithinFloatRoundingOfDouble) {
           << " plane " << glm::dot(x - light.center, light.normal());
     }
   }
-  RecordProperty("worst_abs", std::to_string(worst));
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", worst);
+  RecordProperty("worst_abs", text);
 }
 
 TEST(Irradiance, LanesEqualIrradianceFactorBitForBitOnEveryTarget) {
