@@ -141,7 +141,8 @@ void shadeFrame(raster::Rasterizer& raster, const Scene& scene, const FramePlan&
           if (!layered) {
             const GBufferTexel& g = frame.gbuffer.at(x, y);
             if (g.material >= 0) {
-              c = shadeTexel(scene, eye, visibility, g, x, y, factors ? factors + x : nullptr, static_cast<size_t>(w));
+              c = shadeTexel(scene, eye, visibility, g, x, y, factors ? factors + x : nullptr,
+                             static_cast<size_t>(frame.gbuffer.width()));
               alpha = 1.0f;
             }
           } else {

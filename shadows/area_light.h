@@ -63,8 +63,8 @@ struct SurfacePoints {
   const float *px, *py, *pz, *nx, *ny, *nz;
 };
 
-// out[i] = irradianceFactor(light, p_i, n_i), bit for bit, for i < n: 16 points at a time in SIMD
-// lanes (the SIMD target `simd` names, raster/simd.h; 0 = the best this CPU has). A lane whose
+// out[i] = irradianceFactor(light, p_i, n_i), bit for bit, for i < n: one point per float lane, up
+// to 16 at a time (the SIMD target `simd` names, raster/simd.h; 0 = the best this CPU has). A lane whose
 // rectangle crosses its tangent plane (the polygon is clipped) and the last n mod lanes are handed
 // to irradianceFactor itself.
 void irradianceFactors(const RectLight& light, const SurfacePoints& points, int n, float* out, int64_t simd = 0);

@@ -1,5 +1,5 @@
-// irradianceFactors (area_light.h): Lambert's polygon formula for 16 receivers at a time, one per
-// float lane, compiled once per Highway target.
+// irradianceFactors (area_light.h): Lambert's polygon formula for up to 16 receivers at a time, one
+// per float lane, compiled once per Highway target.
 //
 // Exactness, lane by lane against irradianceFactor: the lanes repeat its float operations in its
 // order (glm's dot is (x * x' + y * y') + z * z', its cross x.y * y.z - y.y * x.z and so on; no
@@ -7,8 +7,7 @@
 // (pi < v) ? pi : v. The scalar code skips an edge whose cross product is zero or NaN; a lane adds
 // +0 instead, which leaves the sum alone except that -0 + +0 is +0, and the result takes |sum|.
 // Lanes whose rectangle dips below the tangent plane (the scalar code clips it to 3 or 5 corners)
-// are recomputed by irradianceFactor; on the scenes' open surfaces under a light they are a few
-// percent of the pixels.
+// are recomputed by irradianceFactor.
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "shadows/irradiance_lanes.cpp"

@@ -108,7 +108,7 @@ Cloud randomCloud(std::mt19937& rng, const RectLight& light, int count) {
     glm::vec3 x(spread(rng), 3.0f * u(rng), spread(rng));
     glm::vec3 n = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0, 0.5f, 0));
     const float r = unit(rng);
-    if (r < 0.25f) n = glm::normalize(light.center - x);  // facing the light: unclipped
+    if (r < 0.25f) n = glm::normalize(light.center - x);  // facing the light: mostly unclipped
     else if (r < 0.3f) x = light.point({unit(rng) < 0.5f ? 0.0f : 1.0f, unit(rng) < 0.5f ? 0.0f : 1.0f});
     else if (r < 0.32f) n = glm::vec3(0.0f);
     else if (r < 0.33f) n = glm::vec3(std::numeric_limits<float>::quiet_NaN(), 0, 0);
