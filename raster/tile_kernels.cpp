@@ -36,14 +36,16 @@ struct Counters {
 };
 
 // Coarse depth: every depth of the triangle is at or behind everything stored in block bi.
+template <DepthFunc kFunc>
 HWY_INLINE bool hiddenByCoarseDepth(const TileJob& job, const SetupTri& t, size_t bi) {
-  return (job.func == DepthFunc::Less && t.zmin >= job.blockMax[bi]) ||
-         (job.func == DepthFunc::Greater && t.zmax <= job.blockMin[bi]);
+  return (kFunc == DepthFunc::Less && t.zmin >= job.blockMax[bi]) ||
+         (kFunc == DepthFunc::Greater && t.zmax <= job.blockMin[bi]);
 }
 
 // One row of up to N lanes: coverage from the three edge vectors (inside when all three >= 0)
 // and the column mask, depth from the row's plane values clamped to the triangle's range, early
 // depth test and write. Returns the lanes that passed, as the low bits; counts covered lanes.
+template <DepthFunc kFunc>
 HWY_INLINE uint64_t depthTestRow(const TileJob& job, const SetupTri& t, auto e0, auto e1, auto e2, auto colMask,
                                  auto z, float* drow, size_t& covered) {
   const hn::CappedTag<int32_t, 8> di;
@@ -53,8 +55,8 @@ HWY_INLINE uint64_t depthTestRow(const TileJob& job, const SetupTri& t, auto e0,
   z = hn::Min(hn::Max(z, hn::Set(df, t.zmin)), hn::Set(df, t.zmax));
   const auto old = hn::LoadU(df, drow);
   auto pass = mf;
-  if (job.func == DepthFunc::Less) pass = hn::And(pass, hn::Lt(z, old));
-  else if (job.func == DepthFunc::Greater) pass = hn::And(pass, hn::Gt(z, old));
+  if constexpr (kFunc == DepthFunc::Less) pass = hn::And(pass, hn::Lt(z, old));
+  else if constexpr (kFunc == DepthFunc::Greater) pass = hn::And(pass, hn::Gt(z, old));
   if (job.depthWrite) hn::StoreU(hn::IfThenElse(pass, z, old), df, drow);
   uint8_t bits[8] = {0};
   hn::StoreMaskBits(df, pass, bits);
@@ -66,12 +68,12 @@ HWY_INLINE uint64_t depthTestRow(const TileJob& job, const SetupTri& t, auto e0,
 // After a triangle wrote pixels `passMask` of block (bx, by): refresh the coarse depth bound the
 // test needs from the block's 64 stored values (padding included), widen the other one
 // conservatively, and record the hit for the fragment stage.
-template <bool kWantHits>
+template <bool kWantHits, DepthFunc kFunc>
 HWY_INLINE void finishBlock(const TileJob& job, const SetupTri& t, int bx, int by, uint64_t passMask, uint32_t triIndex) {
   const hn::CappedTag<float, 8> df;
   const int N = static_cast<int>(hn::Lanes(df));
   const size_t bi = static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx);
-  const bool less = job.func == DepthFunc::Less, greater = job.func == DepthFunc::Greater;
+  constexpr bool less = kFunc == DepthFunc::Less, greater = kFunc == DepthFunc::Greater;
   if (job.depthWrite) {
     const float* depthBlock = job.depth + static_cast<size_t>(by * kBlockSize) * static_cast<size_t>(job.depthStride) +
                               static_cast<size_t>(bx * kBlockSize);
@@ -102,14 +104,14 @@ HWY_INLINE void finishBlock(const TileJob& job, const SetupTri& t, int bx, int b
 // One 8x8 block of a triangle: coverage from the exact edge values e[k] at the block's (0, 0)
 // pixel (bias included; whole[k]: edge k holds for the whole block), coarse depth, SIMD depth test
 // and write. Only rows and columns inside the triangle's bounding box are evaluated.
-template <bool kWantHits>
+template <bool kWantHits, DepthFunc kFunc>
 HWY_INLINE void rasterBlock(const TileJob& job, const SetupTri& t, const EdgeCoefficients& ec, int bx, int by,
                             const int64_t e[3], const bool whole[3], uint32_t triIndex, Counters& c) {
   const hn::CappedTag<int32_t, 8> di;
   const hn::Rebind<float, decltype(di)> df;
   const int N = static_cast<int>(hn::Lanes(di));
   const size_t bi = static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx);
-  if (hiddenByCoarseDepth(job, t, bi)) {
+  if (hiddenByCoarseDepth<kFunc>(job, t, bi)) {
     ++c.rejectedDepth;
     return;
   }
@@ -143,7 +145,7 @@ HWY_INLINE void rasterBlock(const TileJob& job, const SetupTri& t, const EdgeCoe
     for (int j = rowBegin; j < rowEnd; ++j) {
       float* drow = depthBlock + static_cast<size_t>(j) * static_cast<size_t>(job.depthStride) + i0;
       const auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(py0 + j - t.minY)));
-      passMask |= depthTestRow(job, t, e0, e1, e2, colMask, z, drow, covered) << (j * kBlockSize + i0);
+      passMask |= depthTestRow<kFunc>(job, t, e0, e1, e2, colMask, z, drow, covered) << (j * kBlockSize + i0);
       e0 = hn::Add(e0, b0);
       e1 = hn::Add(e1, b1);
       e2 = hn::Add(e2, b2);
@@ -153,91 +155,119 @@ HWY_INLINE void rasterBlock(const TileJob& job, const SetupTri& t, const EdgeCoe
   c.pixelsCovered += covered;
   c.pixelsPassed += static_cast<uint64_t>(std::popcount(passMask));
   if (passMask == 0) return;
-  finishBlock<kWantHits>(job, t, bx, by, passMask, triIndex);
+  finishBlock<kWantHits, kFunc>(job, t, bx, by, passMask, triIndex);
 }
 
-template <bool kWantHits>
-HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, const EdgeCoefficients& ec, int x0, int x1, int y0,
-                            int y1, uint32_t triIndex, Counters& c) {
+// The pixels [x0, x1] x [y0, y1] (inclusive) of block (bx, by) that a small triangle's bounding
+// box covers, the block not hidden by coarse depth. The triangle's vertices span less than 8
+// pixels each way, so its edge values at these pixel centres fit in int32 (tile_kernels.cpp's
+// header) from the exact value at the block column's first pixel of row y0.
+template <bool kWantHits, DepthFunc kFunc>
+HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const EdgeCoefficients& ec, int x0, int x1,
+                                 int y0, int y1, int bx, int by, uint32_t triIndex, Counters& c) {
   const hn::CappedTag<int32_t, 8> di;
   const hn::Rebind<float, decltype(di)> df;
   const int N = static_cast<int>(hn::Lanes(di));
-  const int bx0 = x0 >> kBlockLog2, bx1 = x1 >> kBlockLog2, by0 = y0 >> kBlockLog2, by1 = y1 >> kBlockLog2;
-  // Coarse depth per touched block (at most 2 x 2).
-  bool live[2][2] = {{false, false}, {false, false}};
-  bool any = false;
-  for (int by = by0; by <= by1; ++by)
-    for (int bx = bx0; bx <= bx1; ++bx) {
-      ++c.blocksTested;
-      const size_t bi = static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx);
-      if (hiddenByCoarseDepth(job, t, bi)) {
-        ++c.rejectedDepth;
-      } else {
-        ++c.partial;
-        live[by - by0][bx - bx0] = true;
-        any = true;
-      }
-    }
-  if (!any) return;
-
-  const int gx0 = bx0 * kBlockSize;
+  const int gx0 = bx * kBlockSize;
   int32_t q[3];
   for (int k = 0; k < 3; ++k) q[k] = static_cast<int32_t>(edgeAt(t, ec, k, gx0, y0) >> kSubpixelBits);
   const auto iota = hn::Iota(di, 0);
-  uint64_t pass[2][2] = {{0, 0}, {0, 0}};
+  const auto b0 = hn::Set(di, ec.b[0]), b1 = hn::Set(di, ec.b[1]), b2 = hn::Set(di, ec.b[2]);
+  uint64_t pass = 0;
   size_t covered = 0;
-  for (int g = 0; g <= bx1 - bx0; ++g) {
-    for (int i0 = 0; i0 < kBlockSize; i0 += N) {
-      const int colBase = g * kBlockSize + i0;  // lane offset from gx0
-      if (gx0 + colBase > x1 || gx0 + colBase + N <= x0) continue;
-      const auto lane = hn::Add(iota, hn::Set(di, colBase));
-      const auto colMask = hn::And(hn::Gt(lane, hn::Set(di, x0 - gx0 - 1)), hn::Lt(lane, hn::Set(di, x1 - gx0 + 1)));
-      auto e0 = hn::Add(hn::Set(di, q[0]), hn::Mul(lane, hn::Set(di, ec.a[0])));
-      auto e1 = hn::Add(hn::Set(di, q[1]), hn::Mul(lane, hn::Set(di, ec.a[1])));
-      auto e2 = hn::Add(hn::Set(di, q[2]), hn::Mul(lane, hn::Set(di, ec.a[2])));
-      const auto b0 = hn::Set(di, ec.b[0]), b1 = hn::Set(di, ec.b[1]), b2 = hn::Set(di, ec.b[2]);
-      const auto dx = hn::ConvertTo(df, hn::Add(lane, hn::Set(di, gx0 - t.minX)));
-      const auto zrow = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.zx), dx));
-      for (int y = y0; y <= y1; ++y) {
-        const int br = (y >> kBlockLog2) - by0;
-        if (live[br][g]) {
-          float* drow = job.depth + static_cast<size_t>(y) * static_cast<size_t>(job.depthStride) + gx0 + colBase;
-          const auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(y - t.minY)));
-          pass[br][g] |= depthTestRow(job, t, e0, e1, e2, colMask, z, drow, covered)
-                         << ((y & (kBlockSize - 1)) * kBlockSize + i0);
-          c.pixelsTested += static_cast<uint64_t>(std::min(x1 - gx0 - colBase, N - 1) - std::max(x0 - gx0 - colBase, 0) + 1);
-        }
-        e0 = hn::Add(e0, b0);
-        e1 = hn::Add(e1, b1);
-        e2 = hn::Add(e2, b2);
-      }
+  float* depthRow0 = job.depth + static_cast<size_t>(y0) * static_cast<size_t>(job.depthStride) + gx0;
+  for (int i0 = 0; i0 < kBlockSize; i0 += N) {
+    if (gx0 + i0 > x1 || gx0 + i0 + N <= x0) continue;
+    const auto lane = hn::Add(iota, hn::Set(di, i0));
+    const auto colMask = hn::And(hn::Gt(lane, hn::Set(di, x0 - gx0 - 1)), hn::Lt(lane, hn::Set(di, x1 - gx0 + 1)));
+    auto e0 = hn::Add(hn::Set(di, q[0]), hn::Mul(lane, hn::Set(di, ec.a[0])));
+    auto e1 = hn::Add(hn::Set(di, q[1]), hn::Mul(lane, hn::Set(di, ec.a[1])));
+    auto e2 = hn::Add(hn::Set(di, q[2]), hn::Mul(lane, hn::Set(di, ec.a[2])));
+    const auto dx = hn::ConvertTo(df, hn::Add(lane, hn::Set(di, gx0 - t.minX)));
+    const auto zrow = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.zx), dx));
+    float* drow = depthRow0 + i0;
+    for (int y = y0; y <= y1; ++y) {
+      const auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(y - t.minY)));
+      pass |= depthTestRow<kFunc>(job, t, e0, e1, e2, colMask, z, drow, covered) << ((y & (kBlockSize - 1)) * kBlockSize + i0);
+      drow += job.depthStride;
+      e0 = hn::Add(e0, b0);
+      e1 = hn::Add(e1, b1);
+      e2 = hn::Add(e2, b2);
     }
   }
+  c.pixelsTested += static_cast<uint64_t>((x1 - x0 + 1) * (y1 - y0 + 1));
   c.pixelsCovered += covered;
-  for (int br = 0; br <= by1 - by0; ++br)
-    for (int g = 0; g <= bx1 - bx0; ++g) {
-      const uint64_t m = pass[br][g];
-      if (m == 0) continue;
-      c.pixelsPassed += static_cast<uint64_t>(std::popcount(m));
-      const int bx = bx0 + g, by = by0 + br;
-      finishBlock<kWantHits>(job, t, bx, by, m, triIndex);
-    }
+  if (pass == 0) return;
+  c.pixelsPassed += static_cast<uint64_t>(std::popcount(pass));
+  finishBlock<kWantHits, kFunc>(job, t, bx, by, pass, triIndex);
 }
 
-template <bool kWantHits>
+// A triangle whose vertices span less than 8 pixels each way, its bounding box clamped to the tile
+// [x0, x1] x [y0, y1] (inclusive): at most 2 x 2 blocks, each tested against coarse depth and
+// rasterized on its own (blocks are disjoint, so the order changes nothing but the counters' sum
+// order). The edge coefficients are derived only once a block survives coarse depth.
+template <bool kWantHits, DepthFunc kFunc>
+HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x1, int y0, int y1, uint32_t triIndex,
+                            Counters& c) {
+  const int bx0 = x0 >> kBlockLog2, bx1 = x1 >> kBlockLog2, by0 = y0 >> kBlockLog2, by1 = y1 >> kBlockLog2;
+  if (bx0 == bx1 && by0 == by1) {  // the common case, without the loops
+    ++c.blocksTested;
+    if (hiddenByCoarseDepth<kFunc>(job, t, static_cast<size_t>(by0) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx0))) {
+      ++c.rejectedDepth;
+      return;
+    }
+    ++c.partial;
+    rasterSmallBlock<kWantHits, kFunc>(job, t, edgeCoefficients(t), x0, x1, y0, y1, bx0, by0, triIndex, c);
+    return;
+  }
+  EdgeCoefficients ec;
+  bool haveEdges = false;
+  for (int by = by0; by <= by1; ++by) {
+    const int ry0 = std::max(y0, by * kBlockSize), ry1 = std::min(y1, by * kBlockSize + kBlockSize - 1);
+    for (int bx = bx0; bx <= bx1; ++bx) {
+      ++c.blocksTested;
+      if (hiddenByCoarseDepth<kFunc>(job, t, static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx))) {
+        ++c.rejectedDepth;
+        continue;
+      }
+      ++c.partial;
+      if (!haveEdges) {
+        ec = edgeCoefficients(t);
+        haveEdges = true;
+      }
+      rasterSmallBlock<kWantHits, kFunc>(job, t, ec, std::max(x0, bx * kBlockSize), std::min(x1, bx * kBlockSize + kBlockSize - 1),
+                                  ry0, ry1, bx, by, triIndex, c);
+    }
+  }
+}
+
+template <bool kWantHits, DepthFunc kFunc>
+HWY_INLINE void rasterLarge(const TileJob& job, const SetupTri& t, int bx0, int bx1, int by0, int by1,
+                              uint32_t triIndex, Counters& c);
+
+template <bool kWantHits, DepthFunc kFunc>
 void rasterTriangle(const TileJob& job, const SetupTri& t, uint32_t triIndex, Counters& c) {
   const int x0 = std::max(t.minX, job.x0), x1 = std::min(t.maxX + 1, job.x1);
   const int y0 = std::max(t.minY, job.y0), y1 = std::min(t.maxY + 1, job.y1);
   if (x0 >= x1 || y0 >= y1) return;
   const int bx0 = x0 >> kBlockLog2, bx1 = (x1 - 1) >> kBlockLog2;
   const int by0 = y0 >> kBlockLog2, by1 = (y1 - 1) >> kBlockLog2;
-  const EdgeCoefficients ec = edgeCoefficients(t);
-  const int32_t spanX = std::max({t.vx[0], t.vx[1], t.vx[2]}) - std::min({t.vx[0], t.vx[1], t.vx[2]});
-  const int32_t spanY = std::max({t.vy[0], t.vy[1], t.vy[2]}) - std::min({t.vy[0], t.vy[1], t.vy[2]});
+  const int32_t spanX = std::max(std::max(t.vx[0], t.vx[1]), t.vx[2]) - std::min(std::min(t.vx[0], t.vx[1]), t.vx[2]);
+  const int32_t spanY = std::max(std::max(t.vy[0], t.vy[1]), t.vy[2]) - std::min(std::min(t.vy[0], t.vy[1]), t.vy[2]);
   if (spanX < kBlockSize * kSubpixelOne && spanY < kBlockSize * kSubpixelOne) {
-    rasterSmall<kWantHits>(job, t, ec, x0, x1 - 1, y0, y1 - 1, triIndex, c);
+    rasterSmall<kWantHits, kFunc>(job, t, x0, x1 - 1, y0, y1 - 1, triIndex, c);
     return;
   }
+  rasterLarge<kWantHits, kFunc>(job, t, bx0, bx1, by0, by1, triIndex, c);
+}
+
+// A triangle that spans 8 pixels or more: its blocks [bx0, bx1] x [by0, by1] in the tile, each
+// rejected or accepted whole by its exact edge values, then rasterized (rasterBlock). Kept out of
+// line so that the small triangles' path keeps its values in registers.
+template <bool kWantHits, DepthFunc kFunc>
+HWY_INLINE void rasterLarge(const TileJob& job, const SetupTri& t, int bx0, int bx1, int by0, int by1,
+                              uint32_t triIndex, Counters& c) {
+  const EdgeCoefficients ec = edgeCoefficients(t);
   int64_t e[3];
   for (int k = 0; k < 3; ++k) e[k] = edgeAt(t, ec, k, int64_t{bx0} * kBlockSize, int64_t{by0} * kBlockSize);
 
@@ -262,7 +292,7 @@ void rasterTriangle(const TileJob& job, const SetupTri& t, uint32_t triIndex, Co
       if (reject) {
         ++c.rejectedEdge;
       } else {
-        rasterBlock<kWantHits>(job, t, ec, bx, by, eb, whole, triIndex, c);
+        rasterBlock<kWantHits, kFunc>(job, t, ec, bx, by, eb, whole, triIndex, c);
       }
       for (int k = 0; k < 3; ++k) eb[k] += stepX[k];
     }
@@ -270,22 +300,32 @@ void rasterTriangle(const TileJob& job, const SetupTri& t, uint32_t triIndex, Co
   }
 }
 
-}  // namespace
-
-void RasterizeTileImpl(const TileJob& job, PassStats& st) {
-  Counters c;
+// All of a tile's triangles with one depth test, known at compile time.
+template <DepthFunc kFunc>
+void rasterizeTriangles(const TileJob& job, Counters& c) {
   // The triangles come from memory the setup stage wrote long ago: prefetch a few ahead.
   constexpr uint32_t kAhead = 8;
   if (job.hits) {
     for (uint32_t i = 0; i < job.count; ++i) {
       if (i + kAhead < job.count) __builtin_prefetch(job.tris[i + kAhead]);
-      rasterTriangle<true>(job, *job.tris[i], i, c);
+      rasterTriangle<true, kFunc>(job, *job.tris[i], i, c);
     }
   } else {
     for (uint32_t i = 0; i < job.count; ++i) {
       if (i + kAhead < job.count) __builtin_prefetch(job.tris[i + kAhead]);
-      rasterTriangle<false>(job, *job.tris[i], i, c);
+      rasterTriangle<false, kFunc>(job, *job.tris[i], i, c);
     }
+  }
+}
+
+}  // namespace
+
+void RasterizeTileImpl(const TileJob& job, PassStats& st) {
+  Counters c;
+  switch (job.func) {
+    case DepthFunc::Less: rasterizeTriangles<DepthFunc::Less>(job, c); break;
+    case DepthFunc::Greater: rasterizeTriangles<DepthFunc::Greater>(job, c); break;
+    case DepthFunc::Always: rasterizeTriangles<DepthFunc::Always>(job, c); break;
   }
   st.blocksTested += c.blocksTested;
   st.blocksRejectedEdge += c.rejectedEdge;
