@@ -67,6 +67,9 @@ void binRects(const TileGrid& grid, uint32_t n, RectOf&& rect, TileBins& bins) {
   const uint32_t tiles = grid.count();
   const int s = grid.log2;
   const uint32_t tx = static_cast<uint32_t>(grid.tilesX);
+  // packed[i]: ~0 (empty), kOneTile | tile, or the tile rectangle tx0 | tx1 << 16 | ty0 << 32 | ty1 << 48
+  // (tile coordinates stay below 2^15, kMaxTargetSize, so bit 63 marks the one-tile form).
+  constexpr uint64_t kOneTile = uint64_t{1} << 63;
   bins.offsets.assign(tiles + 1, 0);
   bins.packed.resize(n);
   // Count per tile (shifted by one, for the prefix sum).
@@ -78,6 +81,12 @@ void binRects(const TileGrid& grid, uint32_t n, RectOf&& rect, TileBins& bins) {
     }
     const uint32_t tx0 = static_cast<uint32_t>(r.x0) >> s, tx1 = static_cast<uint32_t>(r.x1) >> s;
     const uint32_t ty0 = static_cast<uint32_t>(r.y0) >> s, ty1 = static_cast<uint32_t>(r.y1) >> s;
+    if (tx0 == tx1 && ty0 == ty1) {  // one tile: the common case for small items, without the loops
+      const uint32_t t = ty0 * tx + tx0;
+      bins.packed[i] = kOneTile | t;
+      ++bins.offsets[t + 1];
+      continue;
+    }
     bins.packed[i] = uint64_t{tx0} | (uint64_t{tx1} << 16) | (uint64_t{ty0} << 32) | (uint64_t{ty1} << 48);
     for (uint32_t ty = ty0; ty <= ty1; ++ty)
       for (uint32_t x = tx0; x <= tx1; ++x) ++bins.offsets[ty * tx + x + 1];
@@ -88,6 +97,10 @@ void binRects(const TileGrid& grid, uint32_t n, RectOf&& rect, TileBins& bins) {
   for (uint32_t i = 0; i < n; ++i) {
     const uint64_t p = bins.packed[i];
     if (p == ~uint64_t{0}) continue;
+    if (p & kOneTile) {
+      bins.entries[bins.offsets[static_cast<uint32_t>(p)]++] = i;
+      continue;
+    }
     const auto tx0 = static_cast<uint32_t>(p & 0xffff), tx1 = static_cast<uint32_t>((p >> 16) & 0xffff);
     const auto ty0 = static_cast<uint32_t>((p >> 32) & 0xffff), ty1 = static_cast<uint32_t>(p >> 48);
     for (uint32_t ty = ty0; ty <= ty1; ++ty)
