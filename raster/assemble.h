@@ -19,7 +19,10 @@
 
 #include <cstdint>
 #include <glm/vec4.hpp>
+#include <memory>
 #include <span>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "raster/clip.h"
@@ -69,13 +72,37 @@ struct VertexStageOutput {
   int nv = 0;
 };
 
+// An allocator whose resize() leaves new elements default-initialized (for these plain records:
+// unwritten) instead of zeroed: the front end grows its record vectors by a setup group, lets
+// setupLanes write the records it keeps, and shrinks them back, so zeroing would be pure waste
+// (64 bytes a triangle). setupLanes writes every byte of a kept SetupTri (SetupLanes test).
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  using value_type = T;
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() = default;
+  template <class U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
 // The set-up triangles of one chunk of a draw, in submission order (the pieces of a clipped
 // triangle in fan order). attrs (one per triangle) and clipVary (the varyings, then the submitted
 // barycentrics, of the vertices the clipper made, nv + 3 floats each) are filled on request: the
 // fragment stage needs them, a depth-only pass does not.
 struct AssembledChunk {
-  std::vector<SetupTri> tris;
-  std::vector<SetupAttr> attrs;
+  std::vector<SetupTri, DefaultInitAllocator<SetupTri>> tris;
+  std::vector<SetupAttr, DefaultInitAllocator<SetupAttr>> attrs;
   std::vector<float> clipVary;
   PassStats stats;  // trianglesIn, dropped, culled, clipped, from clipping
 };

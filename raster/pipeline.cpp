@@ -104,7 +104,7 @@ void Rasterizer::tileStage(const DrawDesc& desc, DepthTarget& depth, FragmentSin
       s.chunkOf.clear();
       s.hits.clear();
       for (size_t ci = 0; ci < chunkCount_; ++ci) {
-        const std::vector<SetupTri>& tris = chunks_[ci].tris;
+        const auto& tris = chunks_[ci].tris;
         for (uint32_t e : bins_[ci].tile(tIdx)) {
           s.tris.push_back(&tris[e]);
           s.chunkOf.push_back(static_cast<uint32_t>(ci));
