@@ -46,8 +46,8 @@ HWY_INLINE bool hiddenByCoarseDepth(const TileJob& job, const SetupTri& t, size_
 // and the column mask, depth from the row's plane values clamped to the triangle's range, early
 // depth test and write. Returns the lanes that passed, as the low bits; counts covered lanes.
 template <DepthFunc kFunc>
-HWY_INLINE uint64_t depthTestRow(const TileJob& job, const SetupTri& t, auto e0, auto e1, auto e2, auto colMask,
-                                 auto z, float* drow, size_t& covered) {
+HWY_INLINE uint64_t depthTestRow(const TileJob& job, const SetupTri& t, auto e0, auto e1, auto e2,
+                                 auto colMask, auto z, float* drow, size_t& covered) {
   const hn::CappedTag<int32_t, 8> di;
   const hn::Rebind<float, decltype(di)> df;
   const auto inside = hn::Gt(hn::Or(hn::Or(e0, e1), e2), hn::Set(di, -1));
@@ -55,8 +55,10 @@ HWY_INLINE uint64_t depthTestRow(const TileJob& job, const SetupTri& t, auto e0,
   z = hn::Min(hn::Max(z, hn::Set(df, t.zmin)), hn::Set(df, t.zmax));
   const auto old = hn::LoadU(df, drow);
   auto pass = mf;
-  if constexpr (kFunc == DepthFunc::Less) pass = hn::And(pass, hn::Lt(z, old));
-  else if constexpr (kFunc == DepthFunc::Greater) pass = hn::And(pass, hn::Gt(z, old));
+  if constexpr (kFunc == DepthFunc::Less)
+    pass = hn::And(pass, hn::Lt(z, old));
+  else if constexpr (kFunc == DepthFunc::Greater)
+    pass = hn::And(pass, hn::Gt(z, old));
   if (job.depthWrite) hn::StoreU(hn::IfThenElse(pass, z, old), df, drow);
   uint8_t bits[8] = {0};
   hn::StoreMaskBits(df, pass, bits);
@@ -69,7 +71,8 @@ HWY_INLINE uint64_t depthTestRow(const TileJob& job, const SetupTri& t, auto e0,
 // test needs from the block's 64 stored values (padding included), widen the other one
 // conservatively, and record the hit for the fragment stage.
 template <bool kWantHits, DepthFunc kFunc>
-HWY_INLINE void finishBlock(const TileJob& job, const SetupTri& t, int bx, int by, uint64_t passMask, uint32_t triIndex) {
+HWY_INLINE void finishBlock(const TileJob& job, const SetupTri& t, int bx, int by, uint64_t passMask,
+                            uint32_t triIndex) {
   const hn::CappedTag<float, 8> df;
   const int N = static_cast<int>(hn::Lanes(df));
   const size_t bi = static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx);
@@ -163,8 +166,8 @@ HWY_INLINE void rasterBlock(const TileJob& job, const SetupTri& t, const EdgeCoe
 // pixels each way, so its edge values at these pixel centres fit in int32 (tile_kernels.cpp's
 // header) from the exact value at the block column's first pixel of row y0.
 template <bool kWantHits, DepthFunc kFunc>
-HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const EdgeCoefficients& ec, int x0, int x1,
-                                 int y0, int y1, int bx, int by, uint32_t triIndex, Counters& c) {
+HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const EdgeCoefficients& ec, int x0,
+                                 int x1, int y0, int y1, int bx, int by, uint32_t triIndex, Counters& c) {
   const hn::CappedTag<int32_t, 8> di;
   const hn::Rebind<float, decltype(di)> df;
   const int N = static_cast<int>(hn::Lanes(di));
@@ -179,7 +182,8 @@ HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const Ed
   for (int i0 = 0; i0 < kBlockSize; i0 += N) {
     if (gx0 + i0 > x1 || gx0 + i0 + N <= x0) continue;
     const auto lane = hn::Add(iota, hn::Set(di, i0));
-    const auto colMask = hn::And(hn::Gt(lane, hn::Set(di, x0 - gx0 - 1)), hn::Lt(lane, hn::Set(di, x1 - gx0 + 1)));
+    const auto colMask =
+        hn::And(hn::Gt(lane, hn::Set(di, x0 - gx0 - 1)), hn::Lt(lane, hn::Set(di, x1 - gx0 + 1)));
     auto e0 = hn::Add(hn::Set(di, q[0]), hn::Mul(lane, hn::Set(di, ec.a[0])));
     auto e1 = hn::Add(hn::Set(di, q[1]), hn::Mul(lane, hn::Set(di, ec.a[1])));
     auto e2 = hn::Add(hn::Set(di, q[2]), hn::Mul(lane, hn::Set(di, ec.a[2])));
@@ -188,7 +192,8 @@ HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const Ed
     float* drow = depthRow0 + i0;
     for (int y = y0; y <= y1; ++y) {
       const auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(y - t.minY)));
-      pass |= depthTestRow<kFunc>(job, t, e0, e1, e2, colMask, z, drow, covered) << ((y & (kBlockSize - 1)) * kBlockSize + i0);
+      pass |= depthTestRow<kFunc>(job, t, e0, e1, e2, colMask, z, drow, covered)
+              << ((y & (kBlockSize - 1)) * kBlockSize + i0);
       drow += job.depthStride;
       e0 = hn::Add(e0, b0);
       e1 = hn::Add(e1, b1);
@@ -207,12 +212,13 @@ HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const Ed
 // rasterized on its own (blocks are disjoint, so the order changes nothing but the counters' sum
 // order). The edge coefficients are derived only once a block survives coarse depth.
 template <bool kWantHits, DepthFunc kFunc>
-HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x1, int y0, int y1, uint32_t triIndex,
-                            Counters& c) {
+HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x1, int y0, int y1,
+                            uint32_t triIndex, Counters& c) {
   const int bx0 = x0 >> kBlockLog2, bx1 = x1 >> kBlockLog2, by0 = y0 >> kBlockLog2, by1 = y1 >> kBlockLog2;
   if (bx0 == bx1 && by0 == by1) {  // the common case, without the loops
     ++c.blocksTested;
-    if (hiddenByCoarseDepth<kFunc>(job, t, static_cast<size_t>(by0) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx0))) {
+    if (hiddenByCoarseDepth<kFunc>(
+            job, t, static_cast<size_t>(by0) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx0))) {
       ++c.rejectedDepth;
       return;
     }
@@ -226,7 +232,8 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x
     const int ry0 = std::max(y0, by * kBlockSize), ry1 = std::min(y1, by * kBlockSize + kBlockSize - 1);
     for (int bx = bx0; bx <= bx1; ++bx) {
       ++c.blocksTested;
-      if (hiddenByCoarseDepth<kFunc>(job, t, static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx))) {
+      if (hiddenByCoarseDepth<kFunc>(
+              job, t, static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx))) {
         ++c.rejectedDepth;
         continue;
       }
@@ -235,38 +242,18 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x
         ec = edgeCoefficients(t);
         haveEdges = true;
       }
-      rasterSmallBlock<kWantHits, kFunc>(job, t, ec, std::max(x0, bx * kBlockSize), std::min(x1, bx * kBlockSize + kBlockSize - 1),
-                                  ry0, ry1, bx, by, triIndex, c);
+      rasterSmallBlock<kWantHits, kFunc>(job, t, ec, std::max(x0, bx * kBlockSize),
+                                         std::min(x1, bx * kBlockSize + kBlockSize - 1), ry0, ry1, bx, by,
+                                         triIndex, c);
     }
   }
 }
 
-template <bool kWantHits, DepthFunc kFunc>
-HWY_INLINE void rasterLarge(const TileJob& job, const SetupTri& t, int bx0, int bx1, int by0, int by1,
-                              uint32_t triIndex, Counters& c);
-
-template <bool kWantHits, DepthFunc kFunc>
-void rasterTriangle(const TileJob& job, const SetupTri& t, uint32_t triIndex, Counters& c) {
-  const int x0 = std::max(t.minX, job.x0), x1 = std::min(t.maxX + 1, job.x1);
-  const int y0 = std::max(t.minY, job.y0), y1 = std::min(t.maxY + 1, job.y1);
-  if (x0 >= x1 || y0 >= y1) return;
-  const int bx0 = x0 >> kBlockLog2, bx1 = (x1 - 1) >> kBlockLog2;
-  const int by0 = y0 >> kBlockLog2, by1 = (y1 - 1) >> kBlockLog2;
-  const int32_t spanX = std::max(std::max(t.vx[0], t.vx[1]), t.vx[2]) - std::min(std::min(t.vx[0], t.vx[1]), t.vx[2]);
-  const int32_t spanY = std::max(std::max(t.vy[0], t.vy[1]), t.vy[2]) - std::min(std::min(t.vy[0], t.vy[1]), t.vy[2]);
-  if (spanX < kBlockSize * kSubpixelOne && spanY < kBlockSize * kSubpixelOne) {
-    rasterSmall<kWantHits, kFunc>(job, t, x0, x1 - 1, y0, y1 - 1, triIndex, c);
-    return;
-  }
-  rasterLarge<kWantHits, kFunc>(job, t, bx0, bx1, by0, by1, triIndex, c);
-}
-
 // A triangle that spans 8 pixels or more: its blocks [bx0, bx1] x [by0, by1] in the tile, each
-// rejected or accepted whole by its exact edge values, then rasterized (rasterBlock). Kept out of
-// line so that the small triangles' path keeps its values in registers.
+// rejected or accepted whole by its exact edge values, then rasterized (rasterBlock).
 template <bool kWantHits, DepthFunc kFunc>
 HWY_INLINE void rasterLarge(const TileJob& job, const SetupTri& t, int bx0, int bx1, int by0, int by1,
-                              uint32_t triIndex, Counters& c) {
+                            uint32_t triIndex, Counters& c) {
   const EdgeCoefficients ec = edgeCoefficients(t);
   int64_t e[3];
   for (int k = 0; k < 3; ++k) e[k] = edgeAt(t, ec, k, int64_t{bx0} * kBlockSize, int64_t{by0} * kBlockSize);
@@ -300,6 +287,24 @@ HWY_INLINE void rasterLarge(const TileJob& job, const SetupTri& t, int bx0, int 
   }
 }
 
+template <bool kWantHits, DepthFunc kFunc>
+void rasterTriangle(const TileJob& job, const SetupTri& t, uint32_t triIndex, Counters& c) {
+  const int x0 = std::max(t.minX, job.x0), x1 = std::min(t.maxX + 1, job.x1);
+  const int y0 = std::max(t.minY, job.y0), y1 = std::min(t.maxY + 1, job.y1);
+  if (x0 >= x1 || y0 >= y1) return;
+  const int bx0 = x0 >> kBlockLog2, bx1 = (x1 - 1) >> kBlockLog2;
+  const int by0 = y0 >> kBlockLog2, by1 = (y1 - 1) >> kBlockLog2;
+  const int32_t spanX =
+      std::max(std::max(t.vx[0], t.vx[1]), t.vx[2]) - std::min(std::min(t.vx[0], t.vx[1]), t.vx[2]);
+  const int32_t spanY =
+      std::max(std::max(t.vy[0], t.vy[1]), t.vy[2]) - std::min(std::min(t.vy[0], t.vy[1]), t.vy[2]);
+  if (spanX < kBlockSize * kSubpixelOne && spanY < kBlockSize * kSubpixelOne) {
+    rasterSmall<kWantHits, kFunc>(job, t, x0, x1 - 1, y0, y1 - 1, triIndex, c);
+    return;
+  }
+  rasterLarge<kWantHits, kFunc>(job, t, bx0, bx1, by0, by1, triIndex, c);
+}
+
 // All of a tile's triangles with one depth test, known at compile time.
 template <DepthFunc kFunc>
 void rasterizeTriangles(const TileJob& job, Counters& c) {
@@ -323,9 +328,15 @@ void rasterizeTriangles(const TileJob& job, Counters& c) {
 void RasterizeTileImpl(const TileJob& job, PassStats& st) {
   Counters c;
   switch (job.func) {
-    case DepthFunc::Less: rasterizeTriangles<DepthFunc::Less>(job, c); break;
-    case DepthFunc::Greater: rasterizeTriangles<DepthFunc::Greater>(job, c); break;
-    case DepthFunc::Always: rasterizeTriangles<DepthFunc::Always>(job, c); break;
+    case DepthFunc::Less:
+      rasterizeTriangles<DepthFunc::Less>(job, c);
+      break;
+    case DepthFunc::Greater:
+      rasterizeTriangles<DepthFunc::Greater>(job, c);
+      break;
+    case DepthFunc::Always:
+      rasterizeTriangles<DepthFunc::Always>(job, c);
+      break;
   }
   st.blocksTested += c.blocksTested;
   st.blocksRejectedEdge += c.rejectedEdge;

@@ -115,7 +115,8 @@ TEST(DepthTest, EqualsAScalarModelForEveryFunctionOnEverySimdTarget) {
     const double z = 0.05 + 0.9 * unit(rng), w = 0.5 + 3.0 * unit(rng);
     for (int k = 0; k < 3; ++k)
       verts.push_back(test::clipFromScreen(cx + (unit(rng) - 0.5) * size, cy + (unit(rng) - 0.5) * size,
-                                           std::clamp(z + (unit(rng) - 0.5) * 0.1, 0.0, 1.0), w, width, height));
+                                           std::clamp(z + (unit(rng) - 0.5) * 0.1, 0.0, 1.0), w, width,
+                                           height));
   }
   std::vector<uint32_t> idx(verts.size());
   for (size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<uint32_t>(i);
@@ -136,7 +137,8 @@ TEST(DepthTest, EqualsAScalarModelForEveryFunctionOnEverySimdTarget) {
         }
         SetupTri st;
         int order[3];
-        if (setupTriangle(sv[0], sv[1], sv[2], CullMode::None, vp, st, nullptr, order) != SetupResult::Ok) continue;
+        if (setupTriangle(sv[0], sv[1], sv[2], CullMode::None, vp, st, nullptr, order) != SetupResult::Ok)
+          continue;
         std::vector<uint32_t> cov(depth.size(), 0);
         reference::coverage(reference::snap(&verts[t], width, height), width, height, cov);
         for (int y = 0; y < height; ++y)
@@ -144,7 +146,8 @@ TEST(DepthTest, EqualsAScalarModelForEveryFunctionOnEverySimdTarget) {
             const size_t i = static_cast<size_t>(y * width + x);
             if (cov[i] == 0) continue;
             const float zp = depthAt(st, x, y);
-            const bool pass = func == DepthFunc::Always || (func == DepthFunc::Less ? zp < depth[i] : zp > depth[i]);
+            const bool pass =
+                func == DepthFunc::Always || (func == DepthFunc::Less ? zp < depth[i] : zp > depth[i]);
             if (!pass) continue;
             ++passes[i];
             ++passed;
@@ -164,13 +167,15 @@ TEST(DepthTest, EqualsAScalarModelForEveryFunctionOnEverySimdTarget) {
         for (int y = 0; y < height; ++y)
           for (int x = 0; x < width; ++x)
             ASSERT_EQ(dt.at(x, y), depth[static_cast<size_t>(y * width + x)])
-                << simdTargetName(target) << " func " << static_cast<int>(func) << " write " << write << " at " << x
-                << "," << y;
+                << simdTargetName(target) << " func " << static_cast<int>(func) << " write " << write
+                << " at " << x << "," << y;
         DepthTarget dt2(width, height, clearValue);
         std::vector<uint32_t> shaded(depth.size(), 0);
-        r.draw(d, dt2, [&](uint32_t i, float*) { return verts[i]; },
-               [&](const Fragment& f) { ++shaded[static_cast<size_t>(f.y * width + f.x)]; });
-        EXPECT_EQ(shaded, passes) << simdTargetName(target) << " func " << static_cast<int>(func) << " write " << write;
+        r.draw(
+            d, dt2, [&](uint32_t i, float*) { return verts[i]; },
+            [&](const Fragment& f) { ++shaded[static_cast<size_t>(f.y * width + f.x)]; });
+        EXPECT_EQ(shaded, passes) << simdTargetName(target) << " func " << static_cast<int>(func) << " write "
+                                  << write;
       }
     }
 }
