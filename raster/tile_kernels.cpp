@@ -207,6 +207,19 @@ HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const Ed
   finishBlock<kWantHits, kFunc>(job, t, bx, by, pass, triIndex);
 }
 
+// Block (bx, by) of a small triangle against coarse depth, counted: true when it must be rasterized.
+template <DepthFunc kFunc>
+HWY_INLINE bool smallBlockLive(const TileJob& job, const SetupTri& t, int bx, int by, Counters& c) {
+  ++c.blocksTested;
+  if (hiddenByCoarseDepth<kFunc>(job, t,
+                                 static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx))) {
+    ++c.rejectedDepth;
+    return false;
+  }
+  ++c.partial;
+  return true;
+}
+
 // A triangle whose vertices span less than 8 pixels each way, its bounding box clamped to the tile
 // [x0, x1] x [y0, y1] (inclusive): at most 2 x 2 blocks, each tested against coarse depth and
 // rasterized on its own (blocks are disjoint, so the order changes nothing but the counters' sum
@@ -216,13 +229,7 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x
                             uint32_t triIndex, Counters& c) {
   const int bx0 = x0 >> kBlockLog2, bx1 = x1 >> kBlockLog2, by0 = y0 >> kBlockLog2, by1 = y1 >> kBlockLog2;
   if (bx0 == bx1 && by0 == by1) {  // the common case, without the loops
-    ++c.blocksTested;
-    if (hiddenByCoarseDepth<kFunc>(
-            job, t, static_cast<size_t>(by0) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx0))) {
-      ++c.rejectedDepth;
-      return;
-    }
-    ++c.partial;
+    if (!smallBlockLive<kFunc>(job, t, bx0, by0, c)) return;
     rasterSmallBlock<kWantHits, kFunc>(job, t, edgeCoefficients(t), x0, x1, y0, y1, bx0, by0, triIndex, c);
     return;
   }
@@ -231,13 +238,7 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x
   for (int by = by0; by <= by1; ++by) {
     const int ry0 = std::max(y0, by * kBlockSize), ry1 = std::min(y1, by * kBlockSize + kBlockSize - 1);
     for (int bx = bx0; bx <= bx1; ++bx) {
-      ++c.blocksTested;
-      if (hiddenByCoarseDepth<kFunc>(
-              job, t, static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx))) {
-        ++c.rejectedDepth;
-        continue;
-      }
-      ++c.partial;
+      if (!smallBlockLive<kFunc>(job, t, bx, by, c)) continue;
       if (!haveEdges) {
         ec = edgeCoefficients(t);
         haveEdges = true;
