@@ -28,10 +28,11 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 namespace {
 
-
-// Counters kept in registers during a tile, added to PassStats once at the end.
+// Counters kept in registers during a tile, added to PassStats once at the end. Every tested block
+// ends in exactly one of rejectedEdge, rejectedDepth, accepted and partial, so blocks tested is
+// their sum (PassStats::blocksTested), not counted on its own.
 struct Counters {
-  uint64_t blocksTested = 0, rejectedEdge = 0, rejectedDepth = 0, accepted = 0, partial = 0;
+  uint64_t rejectedEdge = 0, rejectedDepth = 0, accepted = 0, partial = 0;
   uint64_t pixelsTested = 0, pixelsCovered = 0, pixelsPassed = 0;
 };
 
@@ -162,18 +163,16 @@ HWY_INLINE void rasterBlock(const TileJob& job, const SetupTri& t, const EdgeCoe
 }
 
 // The pixels [x0, x1] x [y0, y1] (inclusive) of block (bx, by) that a small triangle's bounding
-// box covers, the block not hidden by coarse depth. The triangle's vertices span less than 8
-// pixels each way, so its edge values at these pixel centres fit in int32 (tile_kernels.cpp's
-// header) from the exact value at the block column's first pixel of row y0.
+// box covers, the block not hidden by coarse depth; q[k] = E_k(8 bx, y0) >> 8 (smallEdges), from
+// which the edge values at these pixel centres follow in int32 (tile_kernels.cpp's header).
 template <bool kWantHits, DepthFunc kFunc>
-HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const EdgeCoefficients& ec, int x0,
-                                 int x1, int y0, int y1, int bx, int by, uint32_t triIndex, Counters& c) {
+HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const EdgeCoefficients& ec,
+                                 const int32_t q[3], int x0, int x1, int y0, int y1, int bx, int by,
+                                 uint32_t triIndex, Counters& c) {
   const hn::CappedTag<int32_t, 8> di;
   const hn::Rebind<float, decltype(di)> df;
   const int N = static_cast<int>(hn::Lanes(di));
   const int gx0 = bx * kBlockSize;
-  int32_t q[3];
-  for (int k = 0; k < 3; ++k) q[k] = static_cast<int32_t>(edgeAt(t, ec, k, gx0, y0) >> kSubpixelBits);
   const auto iota = hn::Iota(di, 0);
   const auto b0 = hn::Set(di, ec.b[0]), b1 = hn::Set(di, ec.b[1]), b2 = hn::Set(di, ec.b[2]);
   uint64_t pass = 0;
@@ -210,7 +209,6 @@ HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const Ed
 // Block (bx, by) of a small triangle against coarse depth, counted: true when it must be rasterized.
 template <DepthFunc kFunc>
 HWY_INLINE bool smallBlockLive(const TileJob& job, const SetupTri& t, int bx, int by, Counters& c) {
-  ++c.blocksTested;
   if (hiddenByCoarseDepth<kFunc>(job, t,
                                  static_cast<size_t>(by) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx))) {
     ++c.rejectedDepth;
@@ -220,20 +218,36 @@ HWY_INLINE bool smallBlockLive(const TileJob& job, const SetupTri& t, int bx, in
   return true;
 }
 
+// A small triangle's exact edge values at pixel (x, y), shifted: q[k] = E_k(x, y) >> 8, floor
+// division. Its vertices span less than 8 pixels each way and (x, y) lies at most 8 pixels left of
+// its bounding box and inside it vertically, so every factor is below 2^12 and |E| below 2^24: int32
+// holds it exactly. Moving the point by (i, j) pixels moves E by 256 (A i + B j), so the shifted
+// value moves by exactly A i + B j: the blocks after the first step from it (rasterSmall).
+HWY_INLINE void smallEdges(const SetupTri& t, const EdgeCoefficients& ec, int x, int y, int32_t q[3]) {
+  const int32_t sx = x * kSubpixelOne, sy = y * kSubpixelOne;
+  for (int k = 0; k < 3; ++k)
+    q[k] = (ec.a[k] * (sx - t.vx[k]) + ec.b[k] * (sy - t.vy[k]) - ec.bias[k]) >> kSubpixelBits;
+}
+
 // A triangle whose vertices span less than 8 pixels each way, its bounding box clamped to the tile
 // [x0, x1] x [y0, y1] (inclusive): at most 2 x 2 blocks, each tested against coarse depth and
 // rasterized on its own (blocks are disjoint, so the order changes nothing but the counters' sum
-// order). The edge coefficients are derived only once a block survives coarse depth.
+// order). The edge values are derived only once a block survives coarse depth, once per triangle,
+// and stepped to the other blocks.
 template <bool kWantHits, DepthFunc kFunc>
 HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x1, int y0, int y1,
                             uint32_t triIndex, Counters& c) {
   const int bx0 = x0 >> kBlockLog2, bx1 = x1 >> kBlockLog2, by0 = y0 >> kBlockLog2, by1 = y1 >> kBlockLog2;
+  int32_t q[3];
   if (bx0 == bx1 && by0 == by1) {  // the common case, without the loops
     if (!smallBlockLive<kFunc>(job, t, bx0, by0, c)) return;
-    rasterSmallBlock<kWantHits, kFunc>(job, t, edgeCoefficients(t), x0, x1, y0, y1, bx0, by0, triIndex, c);
+    const EdgeCoefficients ec = edgeCoefficients(t);
+    smallEdges(t, ec, bx0 * kBlockSize, y0, q);
+    rasterSmallBlock<kWantHits, kFunc>(job, t, ec, q, x0, x1, y0, y1, bx0, by0, triIndex, c);
     return;
   }
   EdgeCoefficients ec;
+  int32_t base[3];  // q at (8 bx0, y0)
   bool haveEdges = false;
   for (int by = by0; by <= by1; ++by) {
     const int ry0 = std::max(y0, by * kBlockSize), ry1 = std::min(y1, by * kBlockSize + kBlockSize - 1);
@@ -241,9 +255,12 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x
       if (!smallBlockLive<kFunc>(job, t, bx, by, c)) continue;
       if (!haveEdges) {
         ec = edgeCoefficients(t);
+        smallEdges(t, ec, bx0 * kBlockSize, y0, base);
         haveEdges = true;
       }
-      rasterSmallBlock<kWantHits, kFunc>(job, t, ec, std::max(x0, bx * kBlockSize),
+      const int stepX = (bx - bx0) * kBlockSize, stepY = ry0 - y0;
+      for (int k = 0; k < 3; ++k) q[k] = base[k] + ec.a[k] * stepX + ec.b[k] * stepY;
+      rasterSmallBlock<kWantHits, kFunc>(job, t, ec, q, std::max(x0, bx * kBlockSize),
                                          std::min(x1, bx * kBlockSize + kBlockSize - 1), ry0, ry1, bx, by,
                                          triIndex, c);
     }
@@ -271,7 +288,6 @@ HWY_INLINE void rasterLarge(const TileJob& job, const SetupTri& t, int bx0, int 
   for (int by = by0; by <= by1; ++by) {
     int64_t eb[3] = {e[0], e[1], e[2]};
     for (int bx = bx0; bx <= bx1; ++bx) {
-      ++c.blocksTested;
       bool reject = false, whole[3];
       for (int k = 0; k < 3; ++k) {
         reject |= eb[k] + extMax[k] < 0;
@@ -339,7 +355,7 @@ void RasterizeTileImpl(const TileJob& job, PassStats& st) {
       rasterizeTriangles<DepthFunc::Always>(job, c);
       break;
   }
-  st.blocksTested += c.blocksTested;
+  st.blocksTested += c.rejectedEdge + c.rejectedDepth + c.accepted + c.partial;
   st.blocksRejectedEdge += c.rejectedEdge;
   st.blocksRejectedDepth += c.rejectedDepth;
   st.blocksAccepted += c.accepted;
