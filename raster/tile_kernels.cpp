@@ -162,11 +162,16 @@ HWY_INLINE void rasterBlock(const TileJob& job, const SetupTri& t, const EdgeCoe
   finishBlock<kWantHits, kFunc>(job, t, bx, by, passMask, triIndex);
 }
 
+// A small triangle's edges 0..2 (lane 3 unused): A, B and q = E(x, y) >> 8 at a pixel (smallEdges).
+struct SmallEdges {
+  alignas(16) int32_t a[4], b[4], q[4];
+};
+
 // The pixels [x0, x1] x [y0, y1] (inclusive) of block (bx, by) that a small triangle's bounding
 // box covers, the block not hidden by coarse depth; q[k] = E_k(8 bx, y0) >> 8 (smallEdges), from
 // which the edge values at these pixel centres follow in int32 (tile_kernels.cpp's header).
 template <bool kWantHits, DepthFunc kFunc>
-HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const EdgeCoefficients& ec,
+HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const SmallEdges& se,
                                  const int32_t q[3], int x0, int x1, int y0, int y1, int bx, int by,
                                  uint32_t triIndex, Counters& c) {
   const hn::CappedTag<int32_t, 8> di;
@@ -174,7 +179,7 @@ HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const Ed
   const int N = static_cast<int>(hn::Lanes(di));
   const int gx0 = bx * kBlockSize;
   const auto iota = hn::Iota(di, 0);
-  const auto b0 = hn::Set(di, ec.b[0]), b1 = hn::Set(di, ec.b[1]), b2 = hn::Set(di, ec.b[2]);
+  const auto b0 = hn::Set(di, se.b[0]), b1 = hn::Set(di, se.b[1]), b2 = hn::Set(di, se.b[2]);
   uint64_t pass = 0;
   size_t covered = 0;
   float* depthRow0 = job.depth + static_cast<size_t>(y0) * static_cast<size_t>(job.depthStride) + gx0;
@@ -183,9 +188,9 @@ HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const Ed
     const auto lane = hn::Add(iota, hn::Set(di, i0));
     const auto colMask =
         hn::And(hn::Gt(lane, hn::Set(di, x0 - gx0 - 1)), hn::Lt(lane, hn::Set(di, x1 - gx0 + 1)));
-    auto e0 = hn::Add(hn::Set(di, q[0]), hn::Mul(lane, hn::Set(di, ec.a[0])));
-    auto e1 = hn::Add(hn::Set(di, q[1]), hn::Mul(lane, hn::Set(di, ec.a[1])));
-    auto e2 = hn::Add(hn::Set(di, q[2]), hn::Mul(lane, hn::Set(di, ec.a[2])));
+    auto e0 = hn::Add(hn::Set(di, q[0]), hn::Mul(lane, hn::Set(di, se.a[0])));
+    auto e1 = hn::Add(hn::Set(di, q[1]), hn::Mul(lane, hn::Set(di, se.a[1])));
+    auto e2 = hn::Add(hn::Set(di, q[2]), hn::Mul(lane, hn::Set(di, se.a[2])));
     const auto dx = hn::ConvertTo(df, hn::Add(lane, hn::Set(di, gx0 - t.minX)));
     const auto zrow = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.zx), dx));
     float* drow = depthRow0 + i0;
@@ -222,11 +227,38 @@ HWY_INLINE bool smallBlockLive(const TileJob& job, const SetupTri& t, int bx, in
 // division. Its vertices span less than 8 pixels each way and (x, y) lies at most 8 pixels left of
 // its bounding box and inside it vertically, so every factor is below 2^12 and |E| below 2^24: int32
 // holds it exactly. Moving the point by (i, j) pixels moves E by 256 (A i + B j), so the shifted
-// value moves by exactly A i + B j: the blocks after the first step from it (rasterSmall).
-HWY_INLINE void smallEdges(const SetupTri& t, const EdgeCoefficients& ec, int x, int y, int32_t q[3]) {
+// value moves by exactly A i + B j: the blocks after the first step from it (rasterSmall). The
+// three edges are formed in the lanes of one 128-bit vector (edgeCoefficients' A, B and bias).
+HWY_INLINE SmallEdges smallEdges(const SetupTri& t, int x, int y) {
+  SmallEdges se;
   const int32_t sx = x * kSubpixelOne, sy = y * kSubpixelOne;
-  for (int k = 0; k < 3; ++k)
-    q[k] = (ec.a[k] * (sx - t.vx[k]) + ec.b[k] * (sy - t.vy[k]) - ec.bias[k]) >> kSubpixelBits;
+#if HWY_TARGET == HWY_SCALAR
+  const EdgeCoefficients ec = edgeCoefficients(t);
+  for (int k = 0; k < 3; ++k) {
+    se.a[k] = ec.a[k];
+    se.b[k] = ec.b[k];
+    se.q[k] = (ec.a[k] * (sx - t.vx[k]) + ec.b[k] * (sy - t.vy[k]) - ec.bias[k]) >> kSubpixelBits;
+  }
+#else
+  const hn::FixedTag<int32_t, 4> d;
+  // Lanes 0..2: vertex k; lane 3 holds the next field (vy[0], minX) and maps to itself: unused.
+  alignas(16) static constexpr int32_t kNext[4] = {1, 2, 0, 3};
+  const auto next = hn::SetTableIndices(d, kNext);
+  const auto vx = hn::LoadU(d, t.vx), vy = hn::LoadU(d, t.vy);
+  const auto dx = hn::Sub(hn::TableLookupLanes(vx, next), vx),
+             dy = hn::Sub(hn::TableLookupLanes(vy, next), vy);
+  const auto zero = hn::Zero(d);
+  // Top-left rule (conventions.h): bias 0 where dy < 0 or (dy == 0 and dx > 0), else 1.
+  const auto topLeft = hn::Or(hn::Lt(dy, zero), hn::And(hn::Eq(dy, zero), hn::Gt(dx, zero)));
+  const auto bias = hn::IfThenZeroElse(topLeft, hn::Set(d, 1));
+  const auto a = hn::Neg(dy);
+  const auto e = hn::Sub(
+      hn::Add(hn::Mul(a, hn::Sub(hn::Set(d, sx), vx)), hn::Mul(dx, hn::Sub(hn::Set(d, sy), vy))), bias);
+  hn::Store(a, d, se.a);
+  hn::Store(dx, d, se.b);
+  hn::Store(hn::ShiftRight<kSubpixelBits>(e), d, se.q);
+#endif
+  return se;
 }
 
 // A triangle whose vertices span less than 8 pixels each way, its bounding box clamped to the tile
@@ -241,26 +273,23 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x
   int32_t q[3];
   if (bx0 == bx1 && by0 == by1) {  // the common case, without the loops
     if (!smallBlockLive<kFunc>(job, t, bx0, by0, c)) return;
-    const EdgeCoefficients ec = edgeCoefficients(t);
-    smallEdges(t, ec, bx0 * kBlockSize, y0, q);
-    rasterSmallBlock<kWantHits, kFunc>(job, t, ec, q, x0, x1, y0, y1, bx0, by0, triIndex, c);
+    const SmallEdges se = smallEdges(t, bx0 * kBlockSize, y0);
+    rasterSmallBlock<kWantHits, kFunc>(job, t, se, se.q, x0, x1, y0, y1, bx0, by0, triIndex, c);
     return;
   }
-  EdgeCoefficients ec;
-  int32_t base[3];  // q at (8 bx0, y0)
+  SmallEdges se;  // q at (8 bx0, y0)
   bool haveEdges = false;
   for (int by = by0; by <= by1; ++by) {
     const int ry0 = std::max(y0, by * kBlockSize), ry1 = std::min(y1, by * kBlockSize + kBlockSize - 1);
     for (int bx = bx0; bx <= bx1; ++bx) {
       if (!smallBlockLive<kFunc>(job, t, bx, by, c)) continue;
       if (!haveEdges) {
-        ec = edgeCoefficients(t);
-        smallEdges(t, ec, bx0 * kBlockSize, y0, base);
+        se = smallEdges(t, bx0 * kBlockSize, y0);
         haveEdges = true;
       }
       const int stepX = (bx - bx0) * kBlockSize, stepY = ry0 - y0;
-      for (int k = 0; k < 3; ++k) q[k] = base[k] + ec.a[k] * stepX + ec.b[k] * stepY;
-      rasterSmallBlock<kWantHits, kFunc>(job, t, ec, q, std::max(x0, bx * kBlockSize),
+      for (int k = 0; k < 3; ++k) q[k] = se.q[k] + se.a[k] * stepX + se.b[k] * stepY;
+      rasterSmallBlock<kWantHits, kFunc>(job, t, se, q, std::max(x0, bx * kBlockSize),
                                          std::min(x1, bx * kBlockSize + kBlockSize - 1), ry0, ry1, bx, by,
                                          triIndex, c);
     }
