@@ -1,5 +1,6 @@
 #include "raster/assemble.h"
 
+#include <algorithm>
 #include <bit>
 
 namespace penumbra::raster {
@@ -30,9 +31,13 @@ Assembly clipTriangleToPolygon(const glm::vec4 c[3], const float* const vary[3],
 
 namespace penumbra::raster {
 
-void assembleTriangles(const VertexStageOutput& vs, std::span<const uint32_t> indices, uint32_t vertexCount,
-                       CullMode cull, const Viewport& vp, bool wantAttrs, uint64_t first, uint64_t last,
-                       AssembledChunk& out, int64_t simd) {
+namespace {
+
+// assembleTriangles with wantAttrs known at compile time: the per-triangle loop does not test it.
+template <bool wantAttrs>
+void assemble(const VertexStageOutput& vs, std::span<const uint32_t> indices, uint32_t vertexCount,
+              CullMode cull, const Viewport& vp, uint64_t first, uint64_t last, AssembledChunk& out,
+              int64_t simd) {
   out.tris.clear();
   out.attrs.clear();
   out.clipVary.clear();
@@ -97,7 +102,7 @@ void assembleTriangles(const VertexStageOutput& vs, std::span<const uint32_t> in
     uint32_t idx[3];
     if (indexed) {
       for (int k = 0; k < 3; ++k) idx[k] = indices[tri * 3 + static_cast<uint64_t>(k)];
-      if (idx[0] >= vertexCount || idx[1] >= vertexCount || idx[2] >= vertexCount) {
+      if (std::max(std::max(idx[0], idx[1]), idx[2]) >= vertexCount) {
         ++st.trianglesDroppedInvalid;
         continue;
       }
@@ -117,8 +122,12 @@ void assembleTriangles(const VertexStageOutput& vs, std::span<const uint32_t> in
           group.x[k][grouped] = v[k]->x;
           group.y[k][grouped] = v[k]->y;
           group.z[k][grouped] = v[k]->z;
-          group.iw[k][grouped] = v[k]->iw;
-          groupIdx[grouped][k] = idx[k];
+        }
+        if constexpr (wantAttrs) {  // 1/w and the varyings' indices only serve the interpolation planes
+          for (int k = 0; k < 3; ++k) {
+            group.iw[k][grouped] = v[k]->iw;
+            groupIdx[grouped][k] = idx[k];
+          }
         }
         group.primitive[grouped] = prim;
         if (++grouped == kSetupGroup) flush();
@@ -159,6 +168,17 @@ void assembleTriangles(const VertexStageOutput& vs, std::span<const uint32_t> in
   st.trianglesCulledDegenerate += verdicts[static_cast<int>(SetupResult::Degenerate)];
   st.trianglesCulledNoSample += verdicts[static_cast<int>(SetupResult::NoSample)];
   st.trianglesBinned = out.tris.size();
+}
+
+}  // namespace
+
+void assembleTriangles(const VertexStageOutput& vs, std::span<const uint32_t> indices, uint32_t vertexCount,
+                       CullMode cull, const Viewport& vp, bool wantAttrs, uint64_t first, uint64_t last,
+                       AssembledChunk& out, int64_t simd) {
+  if (wantAttrs)
+    assemble<true>(vs, indices, vertexCount, cull, vp, first, last, out, simd);
+  else
+    assemble<false>(vs, indices, vertexCount, cull, vp, first, last, out, simd);
 }
 
 }  // namespace penumbra::raster
