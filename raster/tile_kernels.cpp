@@ -261,6 +261,19 @@ HWY_INLINE SmallEdges smallEdges(const SetupTri& t, int x, int y) {
   return se;
 }
 
+// q[k] = se.q[k] + A i + B j for the edges 0..2 (q holds 4 lanes): the shifted edge values i, j
+// pixels away (smallEdges says why this is exact).
+HWY_INLINE void stepSmallEdges(const SmallEdges& se, int i, int j, int32_t q[4]) {
+#if HWY_TARGET == HWY_SCALAR
+  for (int k = 0; k < 3; ++k) q[k] = se.q[k] + se.a[k] * i + se.b[k] * j;
+#else
+  const hn::FixedTag<int32_t, 4> d;
+  hn::Store(hn::Add(hn::Load(d, se.q), hn::Add(hn::Mul(hn::Load(d, se.a), hn::Set(d, i)),
+                                               hn::Mul(hn::Load(d, se.b), hn::Set(d, j)))),
+            d, q);
+#endif
+}
+
 // A triangle whose vertices span less than 8 pixels each way, its bounding box clamped to the tile
 // [x0, x1] x [y0, y1] (inclusive): at most 2 x 2 blocks, each tested against coarse depth and
 // rasterized on its own (blocks are disjoint, so the order changes nothing but the counters' sum
@@ -270,14 +283,14 @@ template <bool kWantHits, DepthFunc kFunc>
 HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x1, int y0, int y1,
                             uint32_t triIndex, Counters& c) {
   const int bx0 = x0 >> kBlockLog2, bx1 = x1 >> kBlockLog2, by0 = y0 >> kBlockLog2, by1 = y1 >> kBlockLog2;
-  int32_t q[3];
   if (bx0 == bx1 && by0 == by1) {  // the common case, without the loops
     if (!smallBlockLive<kFunc>(job, t, bx0, by0, c)) return;
     const SmallEdges se = smallEdges(t, bx0 * kBlockSize, y0);
     rasterSmallBlock<kWantHits, kFunc>(job, t, se, se.q, x0, x1, y0, y1, bx0, by0, triIndex, c);
     return;
   }
-  SmallEdges se;  // q at (8 bx0, y0)
+  SmallEdges se;             // q at (8 bx0, y0)
+  alignas(16) int32_t q[4];  // q at the block's first pixel
   bool haveEdges = false;
   for (int by = by0; by <= by1; ++by) {
     const int ry0 = std::max(y0, by * kBlockSize), ry1 = std::min(y1, by * kBlockSize + kBlockSize - 1);
@@ -287,8 +300,7 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x
         se = smallEdges(t, bx0 * kBlockSize, y0);
         haveEdges = true;
       }
-      const int stepX = (bx - bx0) * kBlockSize, stepY = ry0 - y0;
-      for (int k = 0; k < 3; ++k) q[k] = se.q[k] + se.a[k] * stepX + se.b[k] * stepY;
+      stepSmallEdges(se, (bx - bx0) * kBlockSize, ry0 - y0, q);
       rasterSmallBlock<kWantHits, kFunc>(job, t, se, q, std::max(x0, bx * kBlockSize),
                                          std::min(x1, bx * kBlockSize + kBlockSize - 1), ry0, ry1, bx, by,
                                          triIndex, c);
