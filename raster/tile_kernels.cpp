@@ -34,6 +34,13 @@ namespace {
 struct Counters {
   uint64_t rejectedEdge = 0, rejectedDepth = 0, accepted = 0, partial = 0;
   uint64_t pixelsTested = 0, pixelsCovered = 0, pixelsPassed = 0;
+
+  Counters& operator+=(const Counters& o) {
+    rejectedEdge += o.rejectedEdge, rejectedDepth += o.rejectedDepth, accepted += o.accepted,
+        partial += o.partial;
+    pixelsTested += o.pixelsTested, pixelsCovered += o.pixelsCovered, pixelsPassed += o.pixelsPassed;
+    return *this;
+  }
 };
 
 // Coarse depth: every depth of the triangle is at or behind everything stored in block bi.
@@ -274,11 +281,93 @@ HWY_INLINE void stepSmallEdges(const SmallEdges& se, int i, int j, int32_t q[4])
 #endif
 }
 
+// The bits of an 8-row mask (bit 8 r + i: row r, column i) whose columns i satisfy lo <= i <= hi.
+constexpr uint64_t columnsMask(int lo, int hi) {
+  return 0x0101010101010101ull * ((0xffull >> (7 - hi)) & (0xffull << lo) & 0xffull);
+}
+
+// A small triangle whose blocks [bx0, bx1] x [by0, by1] (at most 2 x 2) all survived coarse depth
+// (counted by the caller), its box [x0, x1] x [y0, y1] at most 8 pixels each way: rasterized as
+// one box of rows, not block by block. Each row is one run of 8 pixels from column xs = x0 -- or,
+// where that run would leave the tile, the tile's last 8 (padded) columns, which hold the box too:
+// the lanes beyond the box read and write back only this tile's own pixels, which no other task
+// touches. The passed pixels (bit 8 (y - y0) + (x - xs)) are then cut into the blocks' masks and
+// each block finished in the order of the block loop (rows of blocks, then columns), so the
+// depths, coarse records, hits and counters are those of rasterizing block by block.
+template <bool kWantHits, DepthFunc kFunc>
+HWY_INLINE void rasterSmallBox(const TileJob& job, const SetupTri& t, int x0, int x1, int y0, int y1, int bx0,
+                               int by0, uint32_t triIndex, Counters& c) {
+  const hn::CappedTag<int32_t, 8> di;
+  const hn::Rebind<float, decltype(di)> df;
+  const int N = static_cast<int>(hn::Lanes(di));
+  const int tileEnd = (job.x1 + kBlockSize - 1) & ~(kBlockSize - 1);  // 8-aligned, within the padded row
+  const int xs = std::min(x0, tileEnd - kBlockSize);
+  const SmallEdges se = smallEdges(t, xs, y0);
+  const auto iota = hn::Iota(di, 0);
+  const auto b0 = hn::Set(di, se.b[0]), b1 = hn::Set(di, se.b[1]), b2 = hn::Set(di, se.b[2]);
+  uint64_t box = 0;
+  size_t covered = 0;
+  float* depthRow0 = job.depth + static_cast<size_t>(y0) * static_cast<size_t>(job.depthStride) + xs;
+  for (int i0 = 0; i0 < kBlockSize; i0 += N) {
+    if (xs + i0 > x1 || xs + i0 + N <= x0) continue;
+    const auto lane = hn::Add(iota, hn::Set(di, i0));
+    const auto colMask =
+        hn::And(hn::Gt(lane, hn::Set(di, x0 - xs - 1)), hn::Lt(lane, hn::Set(di, x1 - xs + 1)));
+    auto e0 = hn::Add(hn::Set(di, se.q[0]), hn::Mul(lane, hn::Set(di, se.a[0])));
+    auto e1 = hn::Add(hn::Set(di, se.q[1]), hn::Mul(lane, hn::Set(di, se.a[1])));
+    auto e2 = hn::Add(hn::Set(di, se.q[2]), hn::Mul(lane, hn::Set(di, se.a[2])));
+    const auto dx = hn::ConvertTo(df, hn::Add(lane, hn::Set(di, xs - t.minX)));
+    const auto zrow = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.zx), dx));
+    float* drow = depthRow0 + i0;
+    for (int y = y0; y <= y1; ++y) {
+      const auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(y - t.minY)));
+      box |= depthTestRow<kFunc>(job, t, e0, e1, e2, colMask, z, drow, covered)
+             << ((y - y0) * kBlockSize + i0);
+      drow += job.depthStride;
+      e0 = hn::Add(e0, b0);
+      e1 = hn::Add(e1, b1);
+      e2 = hn::Add(e2, b2);
+    }
+  }
+  c.pixelsTested += static_cast<uint64_t>((x1 - x0 + 1) * (y1 - y0 + 1));
+  c.pixelsCovered += covered;
+  if (box == 0) return;
+  c.pixelsPassed += static_cast<uint64_t>(std::popcount(box));
+  // Columns: the box's column i is column s + i of block xs / 8, or i - (8 - s) of the next.
+  const int s = xs & (kBlockSize - 1), r = y0 & (kBlockSize - 1);
+  const uint64_t left = (box << s) & columnsMask(s, 7);
+  const uint64_t right = s == 0 ? 0 : (box >> (kBlockSize - s)) & columnsMask(0, s - 1);
+  // Rows: the box's row j is row r + j of block y0 / 8, or j - (8 - r) of the next. Block xs / 8 is
+  // bx0 (xs moves left of x0 only onto a block's first column, when the box lies in one block
+  // column), and a block the box does not reach gets no bits.
+  const int top = kBlockSize * r;
+  if (const uint64_t m = left << top) finishBlock<kWantHits, kFunc>(job, t, bx0, by0, m, triIndex);
+  if (const uint64_t m = right << top) finishBlock<kWantHits, kFunc>(job, t, bx0 + 1, by0, m, triIndex);
+  if (r != 0) {
+    if (const uint64_t m = left >> (64 - top))
+      finishBlock<kWantHits, kFunc>(job, t, bx0, by0 + 1, m, triIndex);
+    if (const uint64_t m = right >> (64 - top))
+      finishBlock<kWantHits, kFunc>(job, t, bx0 + 1, by0 + 1, m, triIndex);
+  }
+}
+
+// Whether none of a small triangle's blocks [bx0, bx1] x [by0, by1] (at most 2 x 2) is hidden by
+// coarse depth.
+template <DepthFunc kFunc>
+HWY_INLINE bool smallBlocksLive(const TileJob& job, const SetupTri& t, int bx0, int bx1, int by0, int by1) {
+  const size_t bi = static_cast<size_t>(by0) * static_cast<size_t>(job.blocksX) + static_cast<size_t>(bx0);
+  const size_t below = static_cast<size_t>(job.blocksX);
+  const bool wide = bx1 > bx0, tall = by1 > by0;
+  return !hiddenByCoarseDepth<kFunc>(job, t, bi) && !(wide && hiddenByCoarseDepth<kFunc>(job, t, bi + 1)) &&
+         !(tall && hiddenByCoarseDepth<kFunc>(job, t, bi + below)) &&
+         !(wide && tall && hiddenByCoarseDepth<kFunc>(job, t, bi + below + 1));
+}
+
 // A triangle whose vertices span less than 8 pixels each way, its bounding box clamped to the tile
-// [x0, x1] x [y0, y1] (inclusive): at most 2 x 2 blocks, each tested against coarse depth and
-// rasterized on its own (blocks are disjoint, so the order changes nothing but the counters' sum
-// order). The edge values are derived only once a block survives coarse depth, once per triangle,
-// and stepped to the other blocks.
+// [x0, x1] x [y0, y1] (inclusive): at most 2 x 2 blocks, each tested against coarse depth. When
+// all survive, the box is rasterized at once (rasterSmallBox); otherwise each live block on its
+// own (blocks are disjoint, so the order changes nothing but the counters' sum order), the edge
+// values derived once a block survives, once per triangle, and stepped to the other blocks.
 template <bool kWantHits, DepthFunc kFunc>
 HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x1, int y0, int y1,
                             uint32_t triIndex, Counters& c) {
@@ -287,6 +376,11 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x
     if (!smallBlockLive<kFunc>(job, t, bx0, by0, c)) return;
     const SmallEdges se = smallEdges(t, bx0 * kBlockSize, y0);
     rasterSmallBlock<kWantHits, kFunc>(job, t, se, se.q, x0, x1, y0, y1, bx0, by0, triIndex, c);
+    return;
+  }
+  if (smallBlocksLive<kFunc>(job, t, bx0, bx1, by0, by1)) {
+    c.partial += static_cast<uint64_t>((bx1 - bx0 + 1) * (by1 - by0 + 1));
+    rasterSmallBox<kWantHits, kFunc>(job, t, x0, x1, y0, y1, bx0, by0, triIndex, c);
     return;
   }
   SmallEdges se;             // q at (8 bx0, y0)
@@ -311,8 +405,8 @@ HWY_INLINE void rasterSmall(const TileJob& job, const SetupTri& t, int x0, int x
 // A triangle that spans 8 pixels or more: its blocks [bx0, bx1] x [by0, by1] in the tile, each
 // rejected or accepted whole by its exact edge values, then rasterized (rasterBlock).
 template <bool kWantHits, DepthFunc kFunc>
-HWY_INLINE void rasterLarge(const TileJob& job, const SetupTri& t, int bx0, int bx1, int by0, int by1,
-                            uint32_t triIndex, Counters& c) {
+HWY_NOINLINE void rasterLarge(const TileJob& job, const SetupTri& t, int bx0, int bx1, int by0, int by1,
+                              uint32_t triIndex, Counters& c) {
   const EdgeCoefficients ec = edgeCoefficients(t);
   int64_t e[3];
   for (int k = 0; k < 3; ++k) e[k] = edgeAt(t, ec, k, int64_t{bx0} * kBlockSize, int64_t{by0} * kBlockSize);
@@ -346,7 +440,7 @@ HWY_INLINE void rasterLarge(const TileJob& job, const SetupTri& t, int bx0, int 
 }
 
 template <bool kWantHits, DepthFunc kFunc>
-void rasterTriangle(const TileJob& job, const SetupTri& t, uint32_t triIndex, Counters& c) {
+HWY_INLINE void rasterTriangle(const TileJob& job, const SetupTri& t, uint32_t triIndex, Counters& c) {
   const int x0 = std::max(t.minX, job.x0), x1 = std::min(t.maxX + 1, job.x1);
   const int y0 = std::max(t.minY, job.y0), y1 = std::min(t.maxY + 1, job.y1);
   if (x0 >= x1 || y0 >= y1) return;
@@ -360,7 +454,9 @@ void rasterTriangle(const TileJob& job, const SetupTri& t, uint32_t triIndex, Co
     rasterSmall<kWantHits, kFunc>(job, t, x0, x1 - 1, y0, y1 - 1, triIndex, c);
     return;
   }
-  rasterLarge<kWantHits, kFunc>(job, t, bx0, bx1, by0, by1, triIndex, c);
+  Counters large;
+  rasterLarge<kWantHits, kFunc>(job, t, bx0, bx1, by0, by1, triIndex, large);
+  c += large;
 }
 
 // All of a tile's triangles with one depth test, known at compile time.

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "raster/reference.h"
 #include "tests/raster/test_util.h"
@@ -98,10 +99,12 @@ TEST(Coverage, MatchesReferenceOnEverySimdTarget) {
 
 // The depth-tested pipeline against a scalar model, for every depth test and write mode on every
 // SIMD target: triangles from below a pixel to 40 pixels wide (the tile stage's tiny one-block,
-// small 2 x 2 block and large paths), crossing block and tile borders, drawn in order over each
+// small box of up to 2 x 2 blocks, its block-by-block fallback where coarse depth hides one of
+// them, and large paths), crossing block and tile borders, drawn in order over each
 // other. The model takes coverage from the reference rasterizer and each pixel's depth from the
 // set-up plane (depthAt), tests and writes pixel by pixel; the fast path must leave the same depth
-// image, shade the same pixels the same number of times and count the same passes.
+// image, shade the same pixels the same number of times and count the same passes (and, with no
+// depth test, the same covered pixels); every target counts the same blocks and pixels.
 TEST(DepthTest, EqualsAScalarModelForEveryFunctionOnEverySimdTarget) {
   const int width = 67, height = 53;
   const Viewport vp{width, height};
@@ -127,7 +130,7 @@ TEST(DepthTest, EqualsAScalarModelForEveryFunctionOnEverySimdTarget) {
       // The model.
       std::vector<float> depth(static_cast<size_t>(width * height), clearValue);
       std::vector<uint32_t> passes(depth.size(), 0);
-      uint64_t passed = 0;
+      uint64_t passed = 0, covered = 0;
       for (size_t t = 0; t < verts.size(); t += 3) {
         ScreenVert sv[3];
         for (int k = 0; k < 3; ++k) {
@@ -145,6 +148,7 @@ TEST(DepthTest, EqualsAScalarModelForEveryFunctionOnEverySimdTarget) {
           for (int x = 0; x < width; ++x) {
             const size_t i = static_cast<size_t>(y * width + x);
             if (cov[i] == 0) continue;
+            ++covered;
             const float zp = depthAt(st, x, y);
             const bool pass =
                 func == DepthFunc::Always || (func == DepthFunc::Less ? zp < depth[i] : zp > depth[i]);
@@ -154,6 +158,7 @@ TEST(DepthTest, EqualsAScalarModelForEveryFunctionOnEverySimdTarget) {
             if (write) depth[i] = zp;
           }
       }
+      std::optional<PassStats> first;  // the first target's counters, which every target must repeat
       for (int64_t target : supportedSimdTargets()) {
         Rasterizer r({.threads = 2, .tileLog2 = 4, .simd = {.tile = target}});
         DrawDesc d;
@@ -164,6 +169,15 @@ TEST(DepthTest, EqualsAScalarModelForEveryFunctionOnEverySimdTarget) {
         DepthTarget dt(width, height, clearValue);
         const PassStats st = r.drawDepth(d, dt, [&](uint32_t i) { return verts[i]; });
         EXPECT_EQ(st.pixelsDepthPassed, passed) << simdTargetName(target);
+        // Without a depth test no block is hidden, so every covered pixel is counted once.
+        if (func == DepthFunc::Always) EXPECT_EQ(st.pixelsCovered, covered) << simdTargetName(target);
+        if (!first) first = st;
+        EXPECT_EQ(st.blocksRejectedEdge, first->blocksRejectedEdge) << simdTargetName(target);
+        EXPECT_EQ(st.blocksRejectedDepth, first->blocksRejectedDepth) << simdTargetName(target);
+        EXPECT_EQ(st.blocksAccepted, first->blocksAccepted) << simdTargetName(target);
+        EXPECT_EQ(st.blocksPartial, first->blocksPartial) << simdTargetName(target);
+        EXPECT_EQ(st.pixelsTested, first->pixelsTested) << simdTargetName(target);
+        EXPECT_EQ(st.pixelsCovered, first->pixelsCovered) << simdTargetName(target);
         for (int y = 0; y < height; ++y)
           for (int x = 0; x < width; ++x)
             ASSERT_EQ(dt.at(x, y), depth[static_cast<size_t>(y * width + x)])
