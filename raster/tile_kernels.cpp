@@ -174,43 +174,54 @@ struct SmallEdges {
   alignas(16) int32_t a[4], b[4], q[4];
 };
 
-// The pixels [x0, x1] x [y0, y1] (inclusive) of block (bx, by) that a small triangle's bounding
-// box covers, the block not hidden by coarse depth; q[k] = E_k(8 bx, y0) >> 8 (smallEdges), from
-// which the edge values at these pixel centres follow in int32 (tile_kernels.cpp's header).
-template <bool kWantHits, DepthFunc kFunc>
-HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const SmallEdges& se,
-                                 const int32_t q[3], int x0, int x1, int y0, int y1, int bx, int by,
-                                 uint32_t triIndex, Counters& c) {
+// Rows y0..y1 of a small triangle over the 8 columns from xs, the pixels [x0, x1] x [y0, y1]
+// (inclusive, within those columns) tested; q[k] = E_k(xs, y0) >> 8 (smallEdges), from which the
+// edge values at these pixel centres follow in int32 (tile_kernels.cpp's header). Returns the
+// pixels that passed, pixel (x, y) as bit 8 (firstRow + y - y0) + x - xs; counts covered pixels.
+template <DepthFunc kFunc>
+HWY_INLINE uint64_t rasterRows(const TileJob& job, const SetupTri& t, const SmallEdges& se,
+                               const int32_t q[3], int xs, int x0, int x1, int y0, int y1, int firstRow,
+                               size_t& covered) {
   const hn::CappedTag<int32_t, 8> di;
   const hn::Rebind<float, decltype(di)> df;
   const int N = static_cast<int>(hn::Lanes(di));
-  const int gx0 = bx * kBlockSize;
   const auto iota = hn::Iota(di, 0);
   const auto b0 = hn::Set(di, se.b[0]), b1 = hn::Set(di, se.b[1]), b2 = hn::Set(di, se.b[2]);
   uint64_t pass = 0;
-  size_t covered = 0;
-  float* depthRow0 = job.depth + static_cast<size_t>(y0) * static_cast<size_t>(job.depthStride) + gx0;
+  float* depthRow0 = job.depth + static_cast<size_t>(y0) * static_cast<size_t>(job.depthStride) + xs;
   for (int i0 = 0; i0 < kBlockSize; i0 += N) {
-    if (gx0 + i0 > x1 || gx0 + i0 + N <= x0) continue;
+    if (xs + i0 > x1 || xs + i0 + N <= x0) continue;
     const auto lane = hn::Add(iota, hn::Set(di, i0));
     const auto colMask =
-        hn::And(hn::Gt(lane, hn::Set(di, x0 - gx0 - 1)), hn::Lt(lane, hn::Set(di, x1 - gx0 + 1)));
+        hn::And(hn::Gt(lane, hn::Set(di, x0 - xs - 1)), hn::Lt(lane, hn::Set(di, x1 - xs + 1)));
     auto e0 = hn::Add(hn::Set(di, q[0]), hn::Mul(lane, hn::Set(di, se.a[0])));
     auto e1 = hn::Add(hn::Set(di, q[1]), hn::Mul(lane, hn::Set(di, se.a[1])));
     auto e2 = hn::Add(hn::Set(di, q[2]), hn::Mul(lane, hn::Set(di, se.a[2])));
-    const auto dx = hn::ConvertTo(df, hn::Add(lane, hn::Set(di, gx0 - t.minX)));
+    const auto dx = hn::ConvertTo(df, hn::Add(lane, hn::Set(di, xs - t.minX)));
     const auto zrow = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.zx), dx));
     float* drow = depthRow0 + i0;
     for (int y = y0; y <= y1; ++y) {
       const auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(y - t.minY)));
       pass |= depthTestRow<kFunc>(job, t, e0, e1, e2, colMask, z, drow, covered)
-              << ((y & (kBlockSize - 1)) * kBlockSize + i0);
+              << ((firstRow + y - y0) * kBlockSize + i0);
       drow += job.depthStride;
       e0 = hn::Add(e0, b0);
       e1 = hn::Add(e1, b1);
       e2 = hn::Add(e2, b2);
     }
   }
+  return pass;
+}
+
+// The pixels [x0, x1] x [y0, y1] (inclusive) of block (bx, by) that a small triangle's bounding
+// box covers, the block not hidden by coarse depth; q[k] = E_k(8 bx, y0) >> 8 (smallEdges).
+template <bool kWantHits, DepthFunc kFunc>
+HWY_INLINE void rasterSmallBlock(const TileJob& job, const SetupTri& t, const SmallEdges& se,
+                                 const int32_t q[3], int x0, int x1, int y0, int y1, int bx, int by,
+                                 uint32_t triIndex, Counters& c) {
+  size_t covered = 0;
+  const uint64_t pass =
+      rasterRows<kFunc>(job, t, se, q, bx * kBlockSize, x0, x1, y0, y1, y0 & (kBlockSize - 1), covered);
   c.pixelsTested += static_cast<uint64_t>((x1 - x0 + 1) * (y1 - y0 + 1));
   c.pixelsCovered += covered;
   if (pass == 0) return;
@@ -297,38 +308,11 @@ constexpr uint64_t columnsMask(int lo, int hi) {
 template <bool kWantHits, DepthFunc kFunc>
 HWY_INLINE void rasterSmallBox(const TileJob& job, const SetupTri& t, int x0, int x1, int y0, int y1, int bx0,
                                int by0, uint32_t triIndex, Counters& c) {
-  const hn::CappedTag<int32_t, 8> di;
-  const hn::Rebind<float, decltype(di)> df;
-  const int N = static_cast<int>(hn::Lanes(di));
   const int tileEnd = (job.x1 + kBlockSize - 1) & ~(kBlockSize - 1);  // 8-aligned, within the padded row
   const int xs = std::min(x0, tileEnd - kBlockSize);
   const SmallEdges se = smallEdges(t, xs, y0);
-  const auto iota = hn::Iota(di, 0);
-  const auto b0 = hn::Set(di, se.b[0]), b1 = hn::Set(di, se.b[1]), b2 = hn::Set(di, se.b[2]);
-  uint64_t box = 0;
   size_t covered = 0;
-  float* depthRow0 = job.depth + static_cast<size_t>(y0) * static_cast<size_t>(job.depthStride) + xs;
-  for (int i0 = 0; i0 < kBlockSize; i0 += N) {
-    if (xs + i0 > x1 || xs + i0 + N <= x0) continue;
-    const auto lane = hn::Add(iota, hn::Set(di, i0));
-    const auto colMask =
-        hn::And(hn::Gt(lane, hn::Set(di, x0 - xs - 1)), hn::Lt(lane, hn::Set(di, x1 - xs + 1)));
-    auto e0 = hn::Add(hn::Set(di, se.q[0]), hn::Mul(lane, hn::Set(di, se.a[0])));
-    auto e1 = hn::Add(hn::Set(di, se.q[1]), hn::Mul(lane, hn::Set(di, se.a[1])));
-    auto e2 = hn::Add(hn::Set(di, se.q[2]), hn::Mul(lane, hn::Set(di, se.a[2])));
-    const auto dx = hn::ConvertTo(df, hn::Add(lane, hn::Set(di, xs - t.minX)));
-    const auto zrow = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.zx), dx));
-    float* drow = depthRow0 + i0;
-    for (int y = y0; y <= y1; ++y) {
-      const auto z = hn::Add(zrow, hn::Set(df, t.zy * static_cast<float>(y - t.minY)));
-      box |= depthTestRow<kFunc>(job, t, e0, e1, e2, colMask, z, drow, covered)
-             << ((y - y0) * kBlockSize + i0);
-      drow += job.depthStride;
-      e0 = hn::Add(e0, b0);
-      e1 = hn::Add(e1, b1);
-      e2 = hn::Add(e2, b2);
-    }
-  }
+  const uint64_t box = rasterRows<kFunc>(job, t, se, se.q, xs, x0, x1, y0, y1, 0, covered);
   c.pixelsTested += static_cast<uint64_t>((x1 - x0 + 1) * (y1 - y0 + 1));
   c.pixelsCovered += covered;
   if (box == 0) return;
