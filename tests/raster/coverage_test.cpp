@@ -170,7 +170,9 @@ TEST(DepthTest, EqualsAScalarModelForEveryFunctionOnEverySimdTarget) {
         const PassStats st = r.drawDepth(d, dt, [&](uint32_t i) { return verts[i]; });
         EXPECT_EQ(st.pixelsDepthPassed, passed) << simdTargetName(target);
         // Without a depth test no block is hidden, so every covered pixel is counted once.
-        if (func == DepthFunc::Always) EXPECT_EQ(st.pixelsCovered, covered) << simdTargetName(target);
+        if (func == DepthFunc::Always) {
+          EXPECT_EQ(st.pixelsCovered, covered) << simdTargetName(target);
+        }
         if (!first) first = st;
         EXPECT_EQ(st.blocksRejectedEdge, first->blocksRejectedEdge) << simdTargetName(target);
         EXPECT_EQ(st.blocksRejectedDepth, first->blocksRejectedDepth) << simdTargetName(target);
