@@ -25,7 +25,8 @@ bool axisSegments(double a0, double a1, int size, Axis& ax) {
   a0 = std::max(a0, 0.0);
   a1 = std::min(a1, static_cast<double>(size));
   if (!(a0 < a1)) return false;  // also NaN
-  const int i0 = static_cast<int>(std::floor(a0)), i1 = static_cast<int>(std::floor(a1));
+  // 0 <= a0 < a1 <= size: truncation is the floor (std::floor is a library call without SSE4.1).
+  const int i0 = static_cast<int>(a0), i1 = static_cast<int>(a1);
   if (i1 == i0) {
     ax = {{i0, i0 + 1, i0 + 1, i0 + 1}, {a1 - a0, 0.0, 0.0}};
   } else {
@@ -35,17 +36,32 @@ bool axisSegments(double a0, double a1, int size, Axis& ax) {
   return true;
 }
 
+// The ceiling of x in [0, 2^31) (std::ceil is a library call without SSE4.1).
+int ceilOf(double x) {
+  const int i = static_cast<int>(x);
+  return static_cast<double>(i) < x ? i + 1 : i;
+}
+
 // Differences of table entries in the table's arithmetic (exact modulo 2^64 for integers).
 template <class Sum>
 double rectDiff(const Sum* e11, const Sum* e01, const Sum* e10, const Sum* e00, int c) {
-  return static_cast<double>(static_cast<Sum>(e11[c] - e01[c] - e10[c] + e00[c]));
+  const auto d = static_cast<Sum>(e11[c] - e01[c] - e10[c] + e00[c]);
+  // A rectangle's true sum is below 2^63 (sat.h: bits <= 24, up to 2^39 texels): through int64
+  // the value is the same, and the conversion one instruction (uint64 needs a branchy sequence
+  // before AVX-512).
+  if constexpr (std::is_same_v<Sum, uint64_t>)
+    return static_cast<double>(static_cast<int64_t>(d));
+  else
+    return static_cast<double>(d);
 }
 
-// The box query on any table: entry(x, y) points at S(x, y)'s channels.
-template <class Sum, class Entry>
+// The box query on any table: entry(x, y) points at S(x, y)'s channels. C > 0 fixes the channel
+// count at compile time (the loops unroll; the result is the same), C = 0 takes `channels`.
+template <class Sum, int C, class Entry>
 double boxQuery(double x0, double y0, double x1, double y1, int width, int height, int channels, Entry entry,
                 double* out) {
-  std::fill(out, out + channels, 0.0);
+  const int ch = C > 0 ? C : channels;
+  std::fill(out, out + ch, 0.0);
   Axis ax, ay;
   if (!axisSegments(x0, x1, width, ax) || !axisSegments(y0, y1, height, ay)) return 0.0;
   const Sum* e[4][4];
@@ -56,13 +72,27 @@ double boxQuery(double x0, double y0, double x1, double y1, int width, int heigh
     for (int a = 0; a < 3; ++a) {
       if (ax.e[a + 1] == ax.e[a]) continue;
       const double wt = ax.w[a] * ay.w[b];
-      for (int c = 0; c < channels; ++c)
+      for (int c = 0; c < ch; ++c)
         out[c] += wt * rectDiff<Sum>(e[b + 1][a + 1], e[b + 1][a], e[b][a + 1], e[b][a], c);
     }
   }
   const double area = (std::min(x1, static_cast<double>(width)) - std::max(x0, 0.0)) *
                       (std::min(y1, static_cast<double>(height)) - std::max(y0, 0.0));
   return area;
+}
+template <class Sum, class Entry>
+double boxQuery(double x0, double y0, double x1, double y1, int width, int height, int channels, Entry entry,
+                double* out) {
+  switch (channels) {
+    case 1:
+      return boxQuery<Sum, 1>(x0, y0, x1, y1, width, height, channels, entry, out);
+    case 2:
+      return boxQuery<Sum, 2>(x0, y0, x1, y1, width, height, channels, entry, out);
+    case 4:
+      return boxQuery<Sum, 4>(x0, y0, x1, y1, width, height, channels, entry, out);
+    default:
+      return boxQuery<Sum, 0>(x0, y0, x1, y1, width, height, channels, entry, out);
+  }
 }
 
 // Horizontal prefixes with rows in parallel, then vertical prefixes with strips of columns.
@@ -127,7 +157,8 @@ void MultiSat<Sum>::gridSums(double x0, double y0, double x1, double y1, int n, 
     return;
   // Grid point k of an axis, clamped to [base, size]; R(gx, gy) = the integral over
   // [bx, gx) x [by, gy), bilinear in the exact integer rectangles from the base corner.
-  const int bx = static_cast<int>(std::floor(cx0)), by = static_cast<int>(std::floor(cy0));
+  // Coordinates here are >= 0: truncation is the floor.
+  const int bx = static_cast<int>(cx0), by = static_cast<int>(cy0);
   double gx[kMaxN + 1], gy[kMaxN + 1];
   for (int k = 0; k <= n; ++k) {
     const double t = static_cast<double>(k) / n;
@@ -137,11 +168,11 @@ void MultiSat<Sum>::gridSums(double x0, double y0, double x1, double y1, int n, 
   const Sum* base = entry(bx, by);
   double r[(kMaxN + 1) * (kMaxN + 1) * kMaxSatChannels];
   for (int j = 0; j <= n; ++j) {
-    int iy = static_cast<int>(std::floor(gy[j]));
+    int iy = static_cast<int>(gy[j]);
     if (iy >= height) iy = height - 1;
     const double fy = gy[j] - iy;
     for (int i = 0; i <= n; ++i) {
-      int ix = static_cast<int>(std::floor(gx[i]));
+      int ix = static_cast<int>(gx[i]);
       if (ix >= width) ix = width - 1;
       const double fx = gx[i] - ix;
       const Sum* e00 = entry(ix, iy);
@@ -305,8 +336,7 @@ double TiledSat::boxSum(double x0, double y0, double x1, double y1, double* out,
   if (!(cx0 < cx1 && cy0 < cy1)) return 0.0;
   const int T = tile;
   const int tx0 = static_cast<int>(cx0) / T, ty0 = static_cast<int>(cy0) / T;
-  const int tx1 = (static_cast<int>(std::ceil(cx1)) - 1) / T,
-            ty1 = (static_cast<int>(std::ceil(cy1)) - 1) / T;
+  const int tx1 = (ceilOf(cx1) - 1) / T, ty1 = (ceilOf(cy1) - 1) / T;
   const size_t entrySize =
       static_cast<size_t>(T + 1) * static_cast<size_t>(T + 1) * static_cast<size_t>(channels);
   const size_t stride = static_cast<size_t>(T + 1) * static_cast<size_t>(channels);

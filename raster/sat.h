@@ -23,8 +23,9 @@
 //   bit, minus the accumulation): at 4096^2 nothing is left (24 - 24 = 0).
 // - double table: 53 - log2(w*h) bits, 29 at 4096^2 (relative to the values' scale).
 // - integer table: values quantized to `bits` (raster::quantize) and summed exactly modulo 2^64:
-//   exact for any box whose true sum is below 2^64 (bits <= 24 and up to 2^40 pixels), the
-//   quantization step (range / (2^bits - 1), half of it per texel) the only error.
+//   exact for any box whose true sum is below 2^63 (bits <= 24 and up to 2^39 pixels; the
+//   difference goes to double through int64), the quantization step (range / (2^bits - 1), half
+//   of it per texel) the only error.
 // - tiled table (STG): T x T tiles, each with its own range [lo, hi] per channel (its texels'
 //   exact min and max) quantized to `bits` and summed in uint32. A tile's sums stay below 2^32
 //   when T^2 (2^bits - 1) < 2^32, so T = 2^floor((32 - bits) / 2) (bits 20: T = 64; 16: 256). A
