@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -55,6 +56,12 @@ class OcclusionTextures final : public Technique {
     const WidenedView wide = widenedView(ctx, size);
     view_ = wide.view;
     margin_ = wide.margin;
+    texelTanX_ = (view_.tanHi.x - view_.tanLo.x) / static_cast<float>(view_.width);
+    texelTanY_ = (view_.tanHi.y - view_.tanLo.y) / static_cast<float>(view_.height);
+    mapW_ = static_cast<double>(view_.width), mapH_ = static_cast<double>(view_.height);
+    texelsPerTan_ = {mapW_ / static_cast<double>(view_.tanHi.x - view_.tanLo.x),
+                     mapH_ / static_cast<double>(view_.tanHi.y - view_.tanLo.y)};
+    halfLight_ = {0.5f * ctx.in.light.width, 0.5f * ctx.in.light.height};
     // Slab bounds uniform in 1/depth from the near plane to the farthest receiver.
     const float z0 = view_.znear, z1 = std::max(ctx.region.hi.z, z0 * 1.0001f);
     bounds_.resize(static_cast<size_t>(layers_) + 1);
@@ -105,9 +112,18 @@ class OcclusionTextures final : public Technique {
   void evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) override {
     const ReceiverImage& rec = *ctx.in.receivers;
     transmission_.resize(rec.width(), rec.height());
+    // Each receiver's lookup point in the light's view, once for every layer; (0, 0, 0) where it
+    // has none (not a receiver, or behind the light): every layer skips it.
+    points_.resize(rec.width(), rec.height());
+    const glm::vec3 n = ctx.in.light.normal(), c = ctx.in.light.center;
     ctx.raster.run([&] {
       tbb::parallel_for(0, rec.height(), [&](int y) {
-        for (int x = 0; x < rec.width(); ++x) transmission_.at(x, y) = 1.0f;
+        for (int x = 0; x < rec.width(); ++x) {
+          const Receiver& r = rec.at(x, y);
+          const bool lit = r.valid && glm::dot(r.position - c, n) > 0.0f;
+          transmission_.at(x, y) = 1.0f;
+          points_.at(x, y) = lit ? lookupPoint(view_, r, bias_) : glm::vec3(0.0f);
+        }
       });
     });
     tbb::enumerable_thread_specific<Counts> counts;
@@ -127,15 +143,15 @@ class OcclusionTextures final : public Technique {
       croppedTexels += static_cast<uint64_t>(layer.w) * static_cast<uint64_t>(layer.h);
       if (layer.w == 0) continue;
       const auto t0 = Clock::now();
-      const glm::vec3 n = ctx.in.light.normal(), c = ctx.in.light.center;
       const auto accumulate = [&](const tbb::blocked_range<int>& rows) {
         Counts& cnt = counts.local();
         for (int y = rows.begin(); y != rows.end(); ++y)
           for (int x = 0; x < rec.width(); ++x) {
-            const Receiver& r = rec.at(x, y);
             float& t = transmission_.at(x, y);
-            if (!r.valid || t == 0.0f || !(glm::dot(r.position - c, n) > 0.0f)) continue;
-            const float b = blocked(ctx, layer, r, cnt);
+            const glm::vec3& v = points_.at(x, y);
+            // No receiver, or at or behind the light's view plane (a layer is never behind it).
+            if (t == 0.0f || !(v.z > 0.0f)) continue;
+            const float b = blocked(layer, v, rec.at(x, y).normal, cnt);
             t = sumFusion_ ? std::max(0.0f, t - b) : t * (1.0f - b);
           }
       };
@@ -242,9 +258,9 @@ class OcclusionTextures final : public Technique {
   }
 
   // The fraction of the light's footprint box at `layer` that the layer's covered texels fill
-  // (those nearer than r's tangent plane with the plane test), 0 when the layer is not in front.
-  float blocked(const ShadowContext& ctx, const Layer& layer, const Receiver& r, Counts& cnt) const {
-    const glm::vec3 v = lookupPoint(view_, r, bias_);
+  // (those nearer than the tangent plane of the receiver at lookup point v with the plane test), 0
+  // when the layer is not in front.
+  float blocked(const Layer& layer, const glm::vec3& v, const glm::vec3& normal, Counts& cnt) const {
     const float dr = v.z;
     // The part of the slab in front of the receiver: the whole slab without the plane test (the
     // paper's layers above the receiver), up to the receiver with it.
@@ -254,20 +270,21 @@ class OcclusionTextures final : public Technique {
     // the mean depth of what it holds in the light's footprint from there (clamped to the part).
     const float invFront = 1.0f / layer.front, invBack = 1.0f / back;
     // The widest footprint (at the slab's front) missing the covered rectangle: nothing to count.
-    const Box widest = footprint(ctx, v, invFront);
+    const Through through = OcclusionTextures::through(v);
+    const Box widest = footprint(through, invFront);
     if (!(widest.x1 > layer.x0 && widest.x0 < layer.x0 + layer.w && widest.y1 > layer.y0 &&
           widest.y0 < layer.y0 + layer.h))
       return ++cnt.missed, 0.0f;
     ++cnt.lookups;
-    Box box = footprint(ctx, v, 0.5f * (invFront + invBack));
+    Box box = footprint(through, 0.5f * (invFront + invBack));
     if (!(box.area() > 0.0)) return 0.0f;
     std::optional<ReceiverPlane> plane;
-    if (planeTest_) plane.emplace(view_, v, r.normal, bias_);
+    if (planeTest_) plane.emplace(view_, v, normal, bias_);
     double sums[2] = {0.0, 0.0};
     covered(layer, box, plane ? &*plane : nullptr, sums, cnt);
     if (occluderDepth_ && sums[0] > 0.0) {
       const double invOcc = sums[1] / (sums[0] * kDepthScale) / static_cast<double>(view_.znear);
-      box = footprint(ctx, v, std::clamp(static_cast<float>(invOcc), invBack, invFront));
+      box = footprint(through, std::clamp(static_cast<float>(invOcc), invBack, invFront));
       if (!(box.area() > 0.0)) return 0.0f;
       covered(layer, box, plane ? &*plane : nullptr, sums, cnt);
     }
@@ -281,18 +298,20 @@ class OcclusionTextures final : public Technique {
     double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
     double area() const { return (x1 - x0) * (y1 - y0); }
   };
-  Box footprint(const ShadowContext& ctx, const glm::vec3& v, float invZ) const {
-    const float k = invZ - 1.0f / v.z;
-    const float hx = 0.5f * ctx.in.light.width * k, hy = 0.5f * ctx.in.light.height * k;
-    const float tx = v.x / v.z, ty = v.y / v.z;
-    const auto w = static_cast<double>(view_.width), h = static_cast<double>(view_.height);
-    const double sx = w / static_cast<double>(view_.tanHi.x - view_.tanLo.x);
-    const double sy = h / static_cast<double>(view_.tanHi.y - view_.tanLo.y);
+  // The receiver as footprints need it: its tangent point and 1 / depth.
+  struct Through {
+    float tx, ty, invZ;
+  };
+  static Through through(const glm::vec3& v) { return {v.x / v.z, v.y / v.z, 1.0f / v.z}; }
+  Box footprint(const Through& r, float invZ) const {
+    const float k = invZ - r.invZ;
+    const float hx = halfLight_.x * k, hy = halfLight_.y * k;
+    const double w = mapW_, h = mapH_, sx = texelsPerTan_.x, sy = texelsPerTan_.y;
     const auto lox = static_cast<double>(view_.tanLo.x), hiy = static_cast<double>(view_.tanHi.y);
-    return {std::clamp((static_cast<double>(tx - hx) - lox) * sx, 0.0, w),
-            std::clamp((hiy - static_cast<double>(ty + hy)) * sy, 0.0, h),
-            std::clamp((static_cast<double>(tx + hx) - lox) * sx, 0.0, w),
-            std::clamp((hiy - static_cast<double>(ty - hy)) * sy, 0.0, h)};
+    return {std::clamp((static_cast<double>(r.tx - hx) - lox) * sx, 0.0, w),
+            std::clamp((hiy - static_cast<double>(r.ty + hy)) * sy, 0.0, h),
+            std::clamp((static_cast<double>(r.tx + hx) - lox) * sx, 0.0, w),
+            std::clamp((hiy - static_cast<double>(r.ty - hy)) * sy, 0.0, h)};
   }
 
   // sums = the box's covered area and its covered texels' stored values (kDepthScale units, area-
@@ -310,17 +329,59 @@ class OcclusionTextures final : public Technique {
       return;
     }
     const Query q{b, BlockerPlane{plane->tapPlane()}};
-    // The coarsest level whose blocks the box spans at most 2 x 2 of, then down.
-    int level = 0;
-    while (level + 1 < layer.nearest.levels() &&
-           std::max(b.x1 - b.x0, b.y1 - b.y0) > static_cast<double>(1 << level))
-      ++level;
-    const int c0 = static_cast<int>(b.x0) >> level, c1 = (static_cast<int>(std::ceil(b.x1)) - 1) >> level;
-    const int r0 = static_cast<int>(b.y0) >> level, r1 = (static_cast<int>(std::ceil(b.y1)) - 1) >> level;
-    const uint64_t refined = cnt.blocks;
+    // The coarsest level whose blocks the box spans at most 2 x 2 of (the least L with an extent
+    // of at most 2^L, i.e. ceil(extent) <= 2^L), then down.
+    const auto extent = static_cast<unsigned>(ceilOf(std::max(b.x1 - b.x0, b.y1 - b.y0)));
+    const int level =
+        std::min(extent <= 1 ? 0 : static_cast<int>(std::bit_width(extent - 1)), layer.nearest.levels() - 1);
+    const int c0 = static_cast<int>(b.x0) >> level, c1 = (ceilOf(b.x1) - 1) >> level;
+    const int r0 = static_cast<int>(b.y0) >> level, r1 = (ceilOf(b.y1) - 1) >> level;
+    if (level > 0) {
+      // The box as a whole first: the plane's extremes over it bound those over each block's part,
+      // and most boxes are settled so (in an umbra, in light, or where the plane lies behind every
+      // occluder) without a block's own bounds.
+      const auto l = static_cast<size_t>(level);
+      const Range t = thresholds(layer, q, b);
+      bool any = false, nearer = true, behind = true;
+      for (int j = r0; j <= r1; ++j)
+        for (int i = c0; i <= c1; ++i) {
+          const float sNear = layer.nearest.maxs[l].at(i, j);
+          if (!(sNear > 0.0f)) continue;  // nothing covered
+          any = true;
+          behind = behind && !(sNear > t.lo);
+          nearer = nearer && layer.farthest.mins[l].at(i, j) > t.hi;
+        }
+      if (!any || behind || nearer) {
+        ++cnt.settled;
+        if (any && nearer) layer.coverage.boxSum(b.x0, b.y0, b.x1, b.y1, sums);
+        return;
+      }
+    }
+    Part parts[2][2];
+    bool whole = true, any = false, mixed = false;
     for (int j = r0; j <= r1; ++j)
-      for (int i = c0; i <= c1; ++i) visit(layer, q, level, i, j, sums, cnt);
-    if (cnt.blocks == refined) ++cnt.settled;
+      for (int i = c0; i <= c1; ++i) {
+        Part& p = parts[j - r0][i - c0];
+        p = classify(layer, q, level, i, j);
+        whole = whole && (p.kind == Part::Empty || p.kind == Part::Nearer);
+        any = any || p.kind == Part::Nearer;
+        mixed = mixed || p.kind == Part::Mixed;
+      }
+    if (!mixed) ++cnt.settled;
+    // Every block empty or wholly nearer than the plane (the common case: in an umbra, or where the
+    // plane lies behind every occluder): one query of the box, not one per block.
+    if (whole) {
+      if (any) layer.coverage.boxSum(b.x0, b.y0, b.x1, b.y1, sums);
+      return;
+    }
+    for (int j = r0; j <= r1; ++j)
+      for (int i = c0; i <= c1; ++i) visit(layer, q, level, i, j, parts[j - r0][i - c0], sums, cnt);
+  }
+
+  // The ceiling of x in [0, 2^31) (std::ceil is a library call without SSE4.1).
+  static int ceilOf(double x) {
+    const int i = static_cast<int>(x);
+    return static_cast<double>(i) < x ? i + 1 : i;
   }
 
   struct Query {
@@ -329,53 +390,90 @@ class OcclusionTextures final : public Technique {
   };
 
   // Tangent coordinates of texel coordinates.
-  float tanX(double x) const {
-    return view_.tanLo.x +
-           static_cast<float>(x) * (view_.tanHi.x - view_.tanLo.x) / static_cast<float>(view_.width);
+  float tanX(double x) const { return view_.tanLo.x + static_cast<float>(x) * texelTanX_; }
+  float tanY(double y) const { return view_.tanHi.y - static_cast<float>(y) * texelTanY_; }
+
+  // Block (i, j) of a pyramid level against the plane: its part of the query's box (the layer's
+  // table coordinates) and whether its covered texels there are none, all behind the plane, all
+  // nearer, or mixed (to be refined). A texel (level 0) is never mixed: it is tested at its
+  // centre, as PCF's taps.
+  struct Part {
+    enum Kind { Empty, Behind, Nearer, Mixed } kind = Empty;
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    float sNear = 0;  // the block's nearest covered value (a texel: its value)
+  };
+  Part classify(const Layer& layer, const Query& q, int level, int i, int j) const {
+    const Box& b = q.box;
+    Part p;
+    p.x0 = std::max(b.x0, static_cast<double>(i << level));
+    p.x1 = std::min(b.x1, static_cast<double>(std::min((i + 1) << level, layer.w)));
+    p.y0 = std::max(b.y0, static_cast<double>(j << level));
+    p.y1 = std::min(b.y1, static_cast<double>(std::min((j + 1) << level, layer.h)));
+    if (!(p.x0 < p.x1) || !(p.y0 < p.y1)) return p;
+    const auto l = static_cast<size_t>(level);
+    p.sNear = layer.nearest.maxs[l].at(i, j);
+    if (!(p.sNear > 0.0f)) return p;  // nothing covered
+    const double ox = layer.x0, oy = layer.y0;
+    if (level == 0) {
+      const bool nearer = p.sNear > q.plane.threshold(tanX(i + 0.5 + ox), tanY(j + 0.5 + oy));
+      p.kind = nearer ? Part::Nearer : Part::Behind;
+      return p;
+    }
+    const Range t = thresholds(layer, q, Box{p.x0, p.y0, p.x1, p.y1});
+    if (!(p.sNear > t.lo))
+      p.kind = Part::Behind;  // every covered texel behind the plane
+    else
+      p.kind = layer.farthest.mins[l].at(i, j) > t.hi ? Part::Nearer : Part::Mixed;
+    return p;
   }
-  float tanY(double y) const {
-    return view_.tanHi.y -
-           static_cast<float>(y) * (view_.tanHi.y - view_.tanLo.y) / static_cast<float>(view_.height);
+
+  // The plane's thresholds over box r (the layer's table coordinates): linear, so their extremes
+  // are at its corners.
+  struct Range {
+    float lo, hi;
+  };
+  Range thresholds(const Layer& layer, const Query& q, const Box& r) const {
+    const double ox = layer.x0, oy = layer.y0;
+    const float u0 = tanX(r.x0 + ox), u1 = tanX(r.x1 + ox), w0 = tanY(r.y0 + oy), w1 = tanY(r.y1 + oy);
+    const float t00 = q.plane.threshold(u0, w0), t01 = q.plane.threshold(u0, w1);
+    const float t10 = q.plane.threshold(u1, w0), t11 = q.plane.threshold(u1, w1);
+    return {std::min(std::min(t00, t01), std::min(t10, t11)),
+            std::max(std::max(t00, t01), std::max(t10, t11))};
   }
 
   // Adds to sums the covered area (and stored values) nearer than the plane of block (i, j) of
-  // `level` inside the box (the layer's table coordinates).
-  void visit(const Layer& layer, const Query& q, int level, int i, int j, double sums[2], Counts& cnt) const {
-    const Box& b = q.box;
-    const double bx0 = std::max(b.x0, static_cast<double>(i << level));
-    const double bx1 = std::min(b.x1, static_cast<double>(std::min((i + 1) << level, layer.w)));
-    const double by0 = std::max(b.y0, static_cast<double>(j << level));
-    const double by1 = std::min(b.y1, static_cast<double>(std::min((j + 1) << level, layer.h)));
-    if (!(bx0 < bx1) || !(by0 < by1)) return;
-    const auto l = static_cast<size_t>(level);
-    const float sNear = layer.nearest.maxs[l].at(i, j);
-    if (!(sNear > 0.0f)) return;  // nothing covered
-    // The plane's thresholds over the block's part of the box (linear: extremes at its corners).
-    const double ox = layer.x0, oy = layer.y0;
-    const float u0 = tanX(bx0 + ox), u1 = tanX(bx1 + ox), w0 = tanY(by0 + oy), w1 = tanY(by1 + oy);
-    const float t00 = q.plane.threshold(u0, w0), t01 = q.plane.threshold(u0, w1);
-    const float t10 = q.plane.threshold(u1, w0), t11 = q.plane.threshold(u1, w1);
-    const float tMin = std::min(std::min(t00, t01), std::min(t10, t11));
-    const float tMax = std::max(std::max(t00, t01), std::max(t10, t11));
-    if (!(sNear > tMin)) return;  // every covered texel behind the plane
-    if (layer.farthest.mins[l].at(i, j) > tMax || level == 0) {
-      // Every covered texel nearer than the plane (a texel: tested at its centre, as PCF's taps).
-      if (level == 0 && !(sNear > q.plane.threshold(tanX(i + 0.5 + ox), tanY(j + 0.5 + oy)))) return;
+  // `level` inside the box, classified as p.
+  void visit(const Layer& layer, const Query& q, int level, int i, int j, const Part& p, double sums[2],
+             Counts& cnt) const {
+    if (p.kind == Part::Empty || p.kind == Part::Behind) return;
+    if (p.kind == Part::Nearer) {
+      if (level == 0) {
+        // One covered texel: its table entries are 1 and its value in kDepthScale units (as
+        // buildLayer stores them), weighted by the box's part of it, as boxSum would.
+        const double area = (p.x1 - p.x0) * (p.y1 - p.y0);
+        sums[0] += area;
+        sums[1] += area * static_cast<double>(std::lround(static_cast<double>(p.sNear) * kDepthScale));
+        return;
+      }
       double part[2];
-      layer.coverage.boxSum(bx0, by0, bx1, by1, part);
+      layer.coverage.boxSum(p.x0, p.y0, p.x1, p.y1, part);
       sums[0] += part[0], sums[1] += part[1];
       return;
     }
     ++cnt.blocks;
-    const int cw = layer.nearest.maxs[l - 1].width(), ch = layer.nearest.maxs[l - 1].height();
+    const int cw = layer.nearest.maxs[level - 1].width(), ch = layer.nearest.maxs[level - 1].height();
     for (int cj = 2 * j; cj < std::min(2 * j + 2, ch); ++cj)
       for (int ci = 2 * i; ci < std::min(2 * i + 2, cw); ++ci) {
         if (level == 1) ++cnt.texels;
-        visit(layer, q, level - 1, ci, cj, sums, cnt);
+        visit(layer, q, level - 1, ci, cj, classify(layer, q, level - 1, ci, cj), sums, cnt);
       }
   }
 
   LightView view_;
+  float texelTanX_ = 0, texelTanY_ = 0;  // a texel's side in tangent units
+  double mapW_ = 0, mapH_ = 0;
+  glm::dvec2 texelsPerTan_{0.0};
+  glm::vec2 halfLight_{0.0f};  // the light's half extents
   glm::vec2 margin_{0.0f};
   BiasParams bias_;
   int layers_ = 4;
@@ -384,6 +482,7 @@ class OcclusionTextures final : public Technique {
   std::vector<CasterDraw> draws_;
   size_t binned_ = 0, split_ = 0;
   raster::ImageFloat transmission_;
+  raster::Image<glm::vec3> points_;
 };
 
 }  // namespace
