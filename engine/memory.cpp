@@ -84,6 +84,7 @@ MemoryEstimate estimateFrameMemory(const Scene& scene, const ResolvedOptions& re
           tech = size * size * 32;
         }
     }
+    tech += pixels * layers * resolved.technique->receiverBytes;
     part("technique " + resolved.technique->name, tech);
   }
   std::sort(e.parts.begin(), e.parts.end(), [](const auto& a, const auto& b) { return a.second > b.second; });

@@ -16,6 +16,7 @@
 
 #include "raster/sat.h"
 #include "shadows/area_light.h"
+#include "shadows/kernel_taps.h"
 #include "shadows/shadow_map.h"
 
 namespace penumbra::shadows {
@@ -114,7 +115,7 @@ class OcclusionTextures final : public Technique {
     transmission_.resize(rec.width(), rec.height());
     // Each receiver's lookup point in the light's view, once for every layer; (0, 0, 0) where it
     // has none (not a receiver, or behind the light): every layer skips it.
-    points_.resize(rec.width(), rec.height());
+    lookups_.resize(rec.width(), rec.height());
     const glm::vec3 n = ctx.in.light.normal(), c = ctx.in.light.center;
     ctx.raster.run([&] {
       tbb::parallel_for(0, rec.height(), [&](int y) {
@@ -122,7 +123,8 @@ class OcclusionTextures final : public Technique {
           const Receiver& r = rec.at(x, y);
           const bool lit = r.valid && glm::dot(r.position - c, n) > 0.0f;
           transmission_.at(x, y) = 1.0f;
-          points_.at(x, y) = lit ? lookupPoint(view_, r, bias_) : glm::vec3(0.0f);
+          const glm::vec3 v = lit ? lookupPoint(view_, r, bias_) : glm::vec3(0.0f);
+          lookups_.at(x, y) = {v, v.z > 0.0f ? through(v) : Through{}};
         }
       });
     });
@@ -148,10 +150,10 @@ class OcclusionTextures final : public Technique {
         for (int y = rows.begin(); y != rows.end(); ++y)
           for (int x = 0; x < rec.width(); ++x) {
             float& t = transmission_.at(x, y);
-            const glm::vec3& v = points_.at(x, y);
+            const Lookup& l = lookups_.at(x, y);
             // No receiver, or at or behind the light's view plane (a layer is never behind it).
-            if (t == 0.0f || !(v.z > 0.0f)) continue;
-            const float b = blocked(layer, v, rec.at(x, y).normal, cnt);
+            if (t == 0.0f || !(l.v.z > 0.0f)) continue;
+            const float b = blocked(layer, l, rec.at(x, y).normal, cnt);
             t = sumFusion_ ? std::max(0.0f, t - b) : t * (1.0f - b);
           }
       };
@@ -257,10 +259,24 @@ class OcclusionTextures final : public Technique {
     return layer;
   }
 
+  // The receiver as footprints need it: its tangent point and 1 / depth.
+  struct Through {
+    float tx, ty, invZ;
+  };
+  static Through through(const glm::vec3& v) { return {v.x / v.z, v.y / v.z, 1.0f / v.z}; }
+  // A receiver's lookup point in the light's view and its Through, computed once for all layers.
+  struct Lookup {
+    glm::vec3 v{0.0f};
+    Through through{};
+  };
+  static_assert(sizeof(Lookup) == 24, "occtexTechnique's receiverBytes counts 24 bytes a receiver");
+
   // The fraction of the light's footprint box at `layer` that the layer's covered texels fill
-  // (those nearer than the tangent plane of the receiver at lookup point v with the plane test), 0
-  // when the layer is not in front.
-  float blocked(const Layer& layer, const glm::vec3& v, const glm::vec3& normal, Counts& cnt) const {
+  // (those nearer than the tangent plane of the receiver at lookup point l.v with the plane test),
+  // 0 when the layer is not in front.
+  float blocked(const Layer& layer, const Lookup& l, const glm::vec3& normal, Counts& cnt) const {
+    const glm::vec3& v = l.v;
+    const Through& through = l.through;
     const float dr = v.z;
     // The part of the slab in front of the receiver: the whole slab without the plane test (the
     // paper's layers above the receiver), up to the receiver with it.
@@ -270,7 +286,6 @@ class OcclusionTextures final : public Technique {
     // the mean depth of what it holds in the light's footprint from there (clamped to the part).
     const float invFront = 1.0f / layer.front, invBack = 1.0f / back;
     // The widest footprint (at the slab's front) missing the covered rectangle: nothing to count.
-    const Through through = OcclusionTextures::through(v);
     const Box widest = footprint(through, invFront);
     if (!(widest.x1 > layer.x0 && widest.x0 < layer.x0 + layer.w && widest.y1 > layer.y0 &&
           widest.y0 < layer.y0 + layer.h))
@@ -298,11 +313,6 @@ class OcclusionTextures final : public Technique {
     double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
     double area() const { return (x1 - x0) * (y1 - y0); }
   };
-  // The receiver as footprints need it: its tangent point and 1 / depth.
-  struct Through {
-    float tx, ty, invZ;
-  };
-  static Through through(const glm::vec3& v) { return {v.x / v.z, v.y / v.z, 1.0f / v.z}; }
   Box footprint(const Through& r, float invZ) const {
     const float k = invZ - r.invZ;
     const float hx = halfLight_.x * k, hy = halfLight_.y * k;
@@ -328,7 +338,7 @@ class OcclusionTextures final : public Technique {
       layer.coverage.boxSum(b.x0, b.y0, b.x1, b.y1, sums);
       return;
     }
-    const Query q{b, BlockerPlane{plane->tapPlane()}};
+    const Query q{b, texelPlane(layer, plane->tapPlane())};
     // The coarsest level whose blocks the box spans at most 2 x 2 of (the least L with an extent
     // of at most 2^L, i.e. ceil(extent) <= 2^L), then down.
     const auto extent = static_cast<unsigned>(ceilOf(std::max(b.x1 - b.x0, b.y1 - b.y0)));
@@ -341,7 +351,7 @@ class OcclusionTextures final : public Technique {
       // and most boxes are settled so (in an umbra, in light, or where the plane lies behind every
       // occluder) without a block's own bounds.
       const auto l = static_cast<size_t>(level);
-      const Range t = thresholds(layer, q, b);
+      const Range t = thresholds(q, b);
       bool any = false, nearer = true, behind = true;
       for (int j = r0; j <= r1; ++j)
         for (int i = c0; i <= c1; ++i) {
@@ -384,14 +394,26 @@ class OcclusionTextures final : public Technique {
     return static_cast<double>(i) < x ? i + 1 : i;
   }
 
-  struct Query {
-    Box box;
-    BlockerPlane plane;
+  // The receiver-plane test (BlockerPlane: a texel value above the threshold is nearer than the
+  // plane) in a layer's table coordinates x, y: tangent coordinates are linear in them, so the map
+  // folds into the plane's coefficients.
+  struct TexelPlane {
+    float a, b, c, lo, scale;
+    float threshold(double x, double y) const {
+      return scale * std::max(lo, a * static_cast<float>(x) + b * static_cast<float>(y) + c);
+    }
   };
+  TexelPlane texelPlane(const Layer& layer, const TapPlane& p) const {
+    // tanX = u0 + x texelTanX, tanY = w0 - y texelTanY at the table's texel (x, y).
+    const float u0 = view_.tanLo.x + static_cast<float>(layer.x0) * texelTanX_;
+    const float w0 = view_.tanHi.y - static_cast<float>(layer.y0) * texelTanY_;
+    return {p.a * texelTanX_, -p.b * texelTanY_, p.a * u0 + p.b * w0 + p.c, p.lo, p.scale};
+  }
 
-  // Tangent coordinates of texel coordinates.
-  float tanX(double x) const { return view_.tanLo.x + static_cast<float>(x) * texelTanX_; }
-  float tanY(double y) const { return view_.tanHi.y - static_cast<float>(y) * texelTanY_; }
+  struct Query {
+    const Box& box;
+    TexelPlane plane;
+  };
 
   // Block (i, j) of a pyramid level against the plane: its part of the query's box (the layer's
   // table coordinates) and whether its covered texels there are none, all behind the plane, all
@@ -413,13 +435,12 @@ class OcclusionTextures final : public Technique {
     const auto l = static_cast<size_t>(level);
     p.sNear = layer.nearest.maxs[l].at(i, j);
     if (!(p.sNear > 0.0f)) return p;  // nothing covered
-    const double ox = layer.x0, oy = layer.y0;
     if (level == 0) {
-      const bool nearer = p.sNear > q.plane.threshold(tanX(i + 0.5 + ox), tanY(j + 0.5 + oy));
+      const bool nearer = p.sNear > q.plane.threshold(i + 0.5, j + 0.5);
       p.kind = nearer ? Part::Nearer : Part::Behind;
       return p;
     }
-    const Range t = thresholds(layer, q, Box{p.x0, p.y0, p.x1, p.y1});
+    const Range t = thresholds(q, Box{p.x0, p.y0, p.x1, p.y1});
     if (!(p.sNear > t.lo))
       p.kind = Part::Behind;  // every covered texel behind the plane
     else
@@ -432,11 +453,9 @@ class OcclusionTextures final : public Technique {
   struct Range {
     float lo, hi;
   };
-  Range thresholds(const Layer& layer, const Query& q, const Box& r) const {
-    const double ox = layer.x0, oy = layer.y0;
-    const float u0 = tanX(r.x0 + ox), u1 = tanX(r.x1 + ox), w0 = tanY(r.y0 + oy), w1 = tanY(r.y1 + oy);
-    const float t00 = q.plane.threshold(u0, w0), t01 = q.plane.threshold(u0, w1);
-    const float t10 = q.plane.threshold(u1, w0), t11 = q.plane.threshold(u1, w1);
+  static Range thresholds(const Query& q, const Box& r) {
+    const float t00 = q.plane.threshold(r.x0, r.y0), t01 = q.plane.threshold(r.x0, r.y1);
+    const float t10 = q.plane.threshold(r.x1, r.y0), t11 = q.plane.threshold(r.x1, r.y1);
     return {std::min(std::min(t00, t01), std::min(t10, t11)),
             std::max(std::max(t00, t01), std::max(t10, t11))};
   }
@@ -482,7 +501,7 @@ class OcclusionTextures final : public Technique {
   std::vector<CasterDraw> draws_;
   size_t binned_ = 0, split_ = 0;
   raster::ImageFloat transmission_;
-  raster::Image<glm::vec3> points_;
+  raster::Image<Lookup> lookups_;
 };
 
 }  // namespace
@@ -529,7 +548,9 @@ TechniqueInfo occtexTechnique() {
           .peakBytes = [](const ParamSet& params, uint64_t casterTriangles) -> uint64_t {
             const auto side = 2 * static_cast<uint64_t>(params.integer("map_size"));
             return side * side * 62 + casterTriangles * 24;
-          }};
+          },
+          // The transmissions and the receivers' lookup points.
+          .receiverBytes = sizeof(float) + 24};
 }
 
 }  // namespace penumbra::shadows

@@ -139,6 +139,9 @@ struct TechniqueInfo {
   // Empty: 32 bytes per texel of one map_size^2 map (up to four float moments, a blur buffer and a
   // min/max pyramid), or nothing without map_size.
   std::function<uint64_t(const ParamSet& params, uint64_t casterTriangles)> peakBytes = nullptr;
+  // Bytes the technique keeps per receiver pixel beyond the shared inputs (the engine's estimate
+  // adds them per pixel and layer).
+  uint64_t receiverBytes = 0;
   // Samples shutter time: moving casters (ShadowInputs::castersOpen) cast motion-blurred soft
   // shadows. The engine hands the casters' motion only to these; the others see them frozen.
   bool samplesTime = false;
