@@ -112,6 +112,7 @@ class OcclusionTextures final : public Technique {
 
   void evaluate(ShadowContext& ctx, raster::ImageFloat& visibility) override {
     const ReceiverImage& rec = *ctx.in.receivers;
+    const auto tStart = Clock::now();
     transmission_.resize(rec.width(), rec.height());
     // Each receiver's lookup point in the light's view, once for every layer; (0, 0, 0) where it
     // has none (not a receiver, or behind the light): every layer skips it.
@@ -128,6 +129,7 @@ class OcclusionTextures final : public Technique {
         }
       });
     });
+    ctx.times.msEvaluate += msSince(tStart);
     tbb::enumerable_thread_specific<Counts> counts;
     uint64_t layerTexels = 0, croppedTexels = 0;
     // slices=map: one depth map of every caster, its texels dealt to the layers by depth.
