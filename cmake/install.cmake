@@ -23,6 +23,8 @@ install(TARGETS ${PENUMBRA_LIBRARIES} penumbra_options penumbra_warnings
 foreach(dir raster stochastic shadows engine)
   install(DIRECTORY ${dir} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/penumbra FILES_MATCHING PATTERN "*.h")
 endforeach()
+# The image module (engine/image_module.h) where the engine looks for it.
+install(TARGETS penumbra_image_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/penumbra)
 install(FILES ${PROJECT_BINARY_DIR}/generated/engine/version.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/penumbra/engine)
 
 set(PENUMBRA_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/Penumbra)

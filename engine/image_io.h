@@ -1,5 +1,7 @@
-// Image files through OpenImageIO: writing renders (PNG, EXR, anything OIIO writes, chosen by the
-// file extension) and reading textures as RGBA8, from a file or from memory.
+// Image files: writing renders (PNG, EXR, anything OpenImageIO writes, chosen by the file
+// extension) and reading textures as RGBA8, from a file or from memory. PNG is encoded here
+// (engine/png_encoder.h); everything else goes through OpenImageIO, in a module loaded on first
+// use (engine/image_module.h: a process that writes only PNG never loads it).
 //
 // Writes never leave a partial file: the image goes to a temporary file in the destination
 // directory, which is renamed over the destination only once it is complete; on any failure the

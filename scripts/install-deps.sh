@@ -8,7 +8,7 @@ browser=0
 [ "${1:-}" = --browser ] && browser=1
 pkgs=(g++ cmake ninja-build pkg-config git
       libglm-dev libtbb-dev libhwy-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libembree-dev
-      libopenimageio-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
+      libopenimageio-dev zlib1g-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
       python3-dev pybind11-dev python3-numpy python3-pytest  # the Python module and its tests
       clang-14 libclang-rt-14-dev)  # the fuzz targets (scripts/fuzz.sh): libFuzzer
 missing=()

@@ -197,6 +197,23 @@ TEST_F(Cli, UnwritableOutputLeavesNothing) {
                  path("ok.png"));
 }
 
+// A PNG render never loads the image module (OpenImageIO: engine/image_module.h); an EXR needs it,
+// and without it the render is a one-line error naming the module, with nothing written.
+TEST_F(Cli, PngNeedsNoImageModuleAndAMissingOneIsAnError) {
+  const std::string absent = path("absent-module.so");
+  ASSERT_EQ(::setenv("PENUMBRA_IMAGE_MODULE", absent.c_str(), 1), 0);
+  const std::string o = path("b.png");
+  expectBadInput("render --width 32 --height 24 --exr " + path("b.exr") + " -o " + o, "absent-module.so", o);
+  const CliResult png = run("render --width 32 --height 24 -o " + path("a.png"));
+  ::unsetenv("PENUMBRA_IMAGE_MODULE");
+  EXPECT_FALSE(fs::exists(path("b.exr")));
+  EXPECT_EQ(png.status, 0) << png.out;
+  ASSERT_TRUE(fs::exists(path("a.png")));
+  const auto back = penumbra::engine::readImageRgba8(path("a.png"));
+  ASSERT_TRUE(back.ok()) << back.error().line();
+  EXPECT_EQ(back->width(), 32);
+}
+
 TEST_F(Cli, AovBuffersAndTheirErrors) {
   const CliResult r = run("render --builtin knot --width 48 --height 32 --shadow pcss --aov visibility,instance --aov-out " +
                           path("k") + " -o " + path("k.png"));

@@ -21,5 +21,10 @@ type=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt")
 cmake -S "$src" -B "$work/build" -G Ninja -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE="${type:-Release}" \
   -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
 cmake --build "$work/build" -j"${PENUMBRA_JOBS:-2}" >/dev/null
-"$work/build/consumer" "$work"
+# The image module installed where the engine looks for it; the consumer uses this one (not the
+# build tree's, which it would find too).
+module=$(find "$work/prefix" -name libpenumbra_image_oiio.so -path '*/penumbra/*' | head -n 1)
+test -n "$module"
+PENUMBRA_IMAGE_MODULE="$module" "$work/build/consumer" "$work"
+test -f "$work/consumer.exr"
 rm -rf "$work"

@@ -101,6 +101,10 @@ int main(int argc, char** argv) {
     const std::filesystem::path out = std::filesystem::path(argv[1]) / "consumer.png";
     check(pe::writeImage(out.string(), lit->color).ok(), "writes " + out.string());
     check(std::filesystem::file_size(out) > 100, "the PNG has content");
+    // An EXR goes through the installed image module (run.sh points PENUMBRA_IMAGE_MODULE at it).
+    const std::filesystem::path exr = std::filesystem::path(argv[1]) / "consumer.exr";
+    const pe::Status wroteExr = pe::writeImage(exr.string(), lit->color);
+    check(wroteExr.ok(), "writes " + exr.string() + (wroteExr.ok() ? "" : ": " + wroteExr.error().line()));
   }
   if (failures == 0) std::printf("consumer: all checks passed\n");
   return failures == 0 ? 0 : 1;
