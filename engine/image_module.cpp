@@ -17,8 +17,11 @@ constexpr const char* kFileName = "libpenumbra_image_oiio.so";
 std::vector<fs::path> candidates() {
   std::vector<fs::path> paths;
   if (const char* env = std::getenv("PENUMBRA_IMAGE_MODULE"); env && *env) return {fs::path(env)};
+  // Only an absolute path: for the main program dladdr gives argv[0], which may be relative, and a
+  // module in whatever folder the process runs in must never be loaded.
   Dl_info info{};
-  if (::dladdr(reinterpret_cast<void*>(&candidates), &info) != 0 && info.dli_fname && *info.dli_fname)
+  if (::dladdr(reinterpret_cast<void*>(&candidates), &info) != 0 && info.dli_fname &&
+      fs::path(info.dli_fname).is_absolute())
     paths.push_back(fs::path(info.dli_fname).parent_path() / kFileName);
 #ifdef PENUMBRA_IMAGE_MODULE_BUILT
   paths.emplace_back(PENUMBRA_IMAGE_MODULE_BUILT);

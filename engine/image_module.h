@@ -4,7 +4,8 @@
 // (engine/png_encoder.h); EXR and other formats, reading images and decoding textures load the
 // module libpenumbra_image_oiio.so, found in this order:
 //   1. the file $PENUMBRA_IMAGE_MODULE names;
-//   2. beside the binary holding the engine's code (the Python extension has it there);
+//   2. beside the binary holding the engine's code (the Python extension has it there), when its
+//      path is absolute: never from the folder the process runs in;
 //   3. where this build tree built it;
 //   4. <install prefix>/<libdir>/penumbra, where `cmake --install` puts it (the prefix the build
 //      was configured with), and <the executable's folder>/../<libdir>/penumbra.

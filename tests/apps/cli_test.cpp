@@ -214,6 +214,24 @@ TEST_F(Cli, PngNeedsNoImageModuleAndAMissingOneIsAnError) {
   EXPECT_EQ(back->width(), 32);
 }
 
+// The module is never taken from the folder the process runs in: started as ./penumbra (a
+// relative argv[0]) beside a planted libpenumbra_image_oiio.so, the render loads the real one.
+TEST_F(Cli, ImageModuleIsNotLoadedFromTheWorkingFolder) {
+  write("libpenumbra_image_oiio.so", "not a library");
+  fs::create_symlink(PENUMBRA_BIN, path("penumbra"));
+  const std::string cmd = "cd " + dir_.string() + " && ./penumbra render --width 16 --height 16 --exr " +
+                          path("p.exr") + " -o " + path("p.png") + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  std::array<char, 512> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
+  const int st = pclose(p);
+  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << out;
+  EXPECT_TRUE(fs::exists(path("p.exr"))) << out;
+}
+
 TEST_F(Cli, AovBuffersAndTheirErrors) {
   const CliResult r = run("render --builtin knot --width 48 --height 32 --shadow pcss --aov visibility,instance --aov-out " +
                           path("k") + " -o " + path("k.png"));
