@@ -14,7 +14,8 @@ scripts/install-deps.sh --browser
 jobs=${PENUMBRA_JOBS:-2}
 
 echo "== Release build and tests"
-cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+# Tests ON explicitly: scripts/render.sh configures the same folder without them, and the cache keeps it.
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DPENUMBRA_BUILD_TESTS=ON >/dev/null
 cmake --build build/release -j"$jobs"
 scripts/install-python.sh build/release
 ctest --test-dir build/release -j"$jobs" --output-on-failure --timeout 900
