@@ -34,4 +34,24 @@ void DepthTarget::clear(float value) {
   std::fill(blockMax_.begin(), blockMax_.end(), value);
 }
 
+void DepthTarget::fillBorder(float value, unsigned sides) {
+  const int w = depth_.width(), h = depth_.height();
+  if (w <= 0 || h <= 0) return;
+  const auto set = [&](int x, int y) {
+    depth_.at(x, y) = value;
+    const size_t b = static_cast<size_t>(y / kBlockSize) * static_cast<size_t>(blocksX_) +
+                     static_cast<size_t>(x / kBlockSize);
+    blockMin_[b] = std::min(blockMin_[b], value);
+    blockMax_[b] = std::max(blockMax_[b], value);
+  };
+  for (int x = 0; x < w; ++x) {
+    if (sides & 4u) set(x, 0);
+    if (sides & 8u) set(x, h - 1);
+  }
+  for (int y = 0; y < h; ++y) {
+    if (sides & 1u) set(0, y);
+    if (sides & 2u) set(w - 1, y);
+  }
+}
+
 }  // namespace penumbra::raster

@@ -23,6 +23,9 @@ class DepthTarget {
   // Sets every depth (padding included) and the coarse record to `value`. Tile-parallel in the
   // calling TBB arena.
   void clear(float value);
+  // Sets the outermost depths on the sides in `sides` (bits: 1 column 0, 2 column width - 1, 4 row
+  // 0, 8 row height - 1) to `value`, the coarse record of their blocks widened to keep bounding them.
+  void fillBorder(float value, unsigned sides = 15u);
 
   int width() const { return depth_.width(); }
   int height() const { return depth_.height(); }

@@ -121,6 +121,13 @@ ParamSpec samplePatternParam() {
                      "paper)");
 }
 
+ParamSpec mapFitParam(int defaultIndex) {
+  return choiceParam(
+      "fit", defaultIndex, {"receivers", "casters"},
+      "each map's frustum: the receivers' box, or that box cut to the casters' as the light sample "
+      "sees them (finer texels where objects stand on a wide ground)");
+}
+
 ParamSpec interleaveParam() {
   return {.name = "interleave", .kind = ParamKind::Int, .defaultValue = 1, .minValue = 1, .maxValue = 4, .choices = {},
           .help = "k: pixels in each k x k block use disjoint subsets of the views (noise instead of stacked edge "

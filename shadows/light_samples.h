@@ -53,6 +53,9 @@ LightSampleSet lightSamples(const RectLight& light, int n, int k, const std::str
 ParamSpec interleaveParam();
 // The "samples" parameter of MVR and VWSS: hammersley (default) or poisson.
 ParamSpec samplePatternParam();
+// The "fit" parameter of MVR and VWSS: each light sample's map fitted to the receivers (choice 0),
+// or to the receivers cut to the casters' box as that sample sees it (1; makeLightView).
+ParamSpec mapFitParam(int defaultIndex);
 
 // The taps of the depth-map techniques' per-map PCF (mvr, vwss: pcf=5): the texel, then its four
 // neighbours (offsets in texels). pcf=1 takes the first.

@@ -88,10 +88,15 @@ unsigned outsideMask(const LightRegion& r, float hw, float hh, glm::vec3 p) {
 // The smallest depth of the part of triangle p (light space) inside the region: the triangle
 // clipped by the region's planes (Sutherland-Hodgman; a triangle crossing the light plane beside
 // the light has no part near depth 0 inside the region, one crossing the light itself has). 0 when
-// the part reaches the light plane.
-float minDepthInRegion(const LightRegion& r, float hw, float hh, const glm::vec3 p[3]) {
-  if (outsideMask(r, hw, hh, p[0]) == 0 && outsideMask(r, hw, hh, p[1]) == 0 && outsideMask(r, hw, hh, p[2]) == 0)
+// the part reaches the light plane. The part's light-space box is added to [lo, hi].
+float minDepthInRegion(const LightRegion& r, float hw, float hh, const glm::vec3 p[3], glm::vec3& lo,
+                       glm::vec3& hi) {
+  if (outsideMask(r, hw, hh, p[0]) == 0 && outsideMask(r, hw, hh, p[1]) == 0 &&
+      outsideMask(r, hw, hh, p[2]) == 0) {
+    lo = glm::min(lo, glm::min(p[0], glm::min(p[1], p[2])));
+    hi = glm::max(hi, glm::max(p[0], glm::max(p[1], p[2])));
     return std::min({p[0].z, p[1].z, p[2].z});
+  }
   // Planes as f(q) >= 0.
   auto plane = [&](int k, glm::vec3 q) {
     switch (k) {
@@ -118,7 +123,12 @@ float minDepthInRegion(const LightRegion& r, float hw, float hh, const glm::vec3
     for (int i = 0; i < n; ++i) a[i] = b[i];
   }
   float d = std::numeric_limits<float>::max();
-  for (int i = 0; i < n; ++i) d = std::min(d, std::max(a[i].z, 0.0f));
+  for (int i = 0; i < n; ++i) {
+    const glm::vec3 q(a[i].x, a[i].y, std::max(a[i].z, 0.0f));
+    d = std::min(d, q.z);
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
   return d;
 }
 
@@ -171,6 +181,8 @@ CasterSet cullCasters(const RectLight& light, const LightRegion& region, const G
   CasterSet out;
   out.trianglesIn = geometry.triangles();
   out.minDepth = std::numeric_limits<float>::max();
+  out.lo = glm::vec3(std::numeric_limits<float>::max());
+  out.hi = glm::vec3(-std::numeric_limits<float>::max());
   if (region.empty) {
     out.trianglesCulled = out.trianglesIn;
     return out;
@@ -245,9 +257,11 @@ CasterSet cullCasters(const RectLight& light, const LightRegion& region, const G
     }
     out.indices.insert(out.indices.end(), tri, tri + 3);
     if (!geometry.closed.empty()) out.closed.push_back(geometry.closed[t]);
-    out.minDepth = std::min(out.minDepth, minDepthInRegion(region, hw, hh, p));
+    out.minDepth = std::min(out.minDepth, minDepthInRegion(region, hw, hh, p, out.lo, out.hi));
   }
   if (out.indices.empty() || out.minDepth == std::numeric_limits<float>::max()) out.minDepth = 0.0f;
+  if (!(out.lo.x <= out.hi.x && out.lo.y <= out.hi.y && out.lo.z <= out.hi.z))
+    out.lo = out.hi = glm::vec3(0.0f);
   return out;
 }
 
@@ -304,7 +318,7 @@ glm::vec3 boxCorner(const LightRegion& r, int c) {
 }  // namespace
 
 LightView makeLightView(const RectLight& light, const LightRegion& region, glm::vec2 lightPoint, float znear,
-                        int width, int height, glm::vec2 margin) {
+                        int width, int height, glm::vec2 margin, const CasterSet* casters) {
   glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
   for (int c = 0; c < 8; ++c) {
     const glm::vec3 p = boxCorner(region, c);
@@ -312,8 +326,37 @@ LightView makeLightView(const RectLight& light, const LightRegion& region, glm::
     lo = glm::min(lo, t);
     hi = glm::max(hi, t);
   }
-  return finishView(light, light.center + lightPoint.x * light.right + lightPoint.y * light.up, lo - margin,
-                    hi + margin, znear, width, height);
+  unsigned cut = 0;
+  if (casters && casters->boxed() && margin == glm::vec2(0.0f)) {
+    // The casters' parts inside the region, seen from this light point (the extremes of (x - l) / d
+    // over a box with d > 0 are at its corners), widened by kCasterFitMargin texels of the result.
+    glm::vec2 clo(std::numeric_limits<float>::max()), chi(-std::numeric_limits<float>::max());
+    for (int c = 0; c < 8; ++c) {
+      const glm::vec3 p((c & 1) ? casters->hi.x : casters->lo.x, (c & 2) ? casters->hi.y : casters->lo.y,
+                        (c & 4) ? casters->hi.z : casters->lo.z);
+      const glm::vec2 t((p.x - lightPoint.x) / p.z, (p.y - lightPoint.y) / p.z);
+      clo = glm::min(clo, t);
+      chi = glm::max(chi, t);
+    }
+    const glm::vec2 ilo = glm::max(lo, clo), ihi = glm::min(hi, chi);
+    const glm::vec2 size(static_cast<float>(width), static_cast<float>(height));
+    const bool finite =
+        std::isfinite(clo.x) && std::isfinite(clo.y) && std::isfinite(chi.x) && std::isfinite(chi.y);
+    if (finite && ilo.x < ihi.x && ilo.y < ihi.y && size.x > 4.0f * kCasterFitMargin &&
+        size.y > 4.0f * kCasterFitMargin) {
+      const glm::vec2 pad =
+          (ihi - ilo) * (static_cast<float>(kCasterFitMargin) / (size - 2.0f * kCasterFitMargin));
+      const glm::vec2 cutLo = clo - pad, cutHi = chi + pad;
+      cut = (cutLo.x > lo.x ? 1u : 0u) | (cutHi.x < hi.x ? 2u : 0u) | (cutHi.y < hi.y ? 4u : 0u) |
+            (cutLo.y > lo.y ? 8u : 0u);
+      lo = glm::max(lo, cutLo);
+      hi = glm::min(hi, cutHi);
+    }
+  }
+  LightView v = finishView(light, light.center + lightPoint.x * light.right + lightPoint.y * light.up,
+                           lo - margin, hi + margin, znear, width, height);
+  v.casterCut = cut;
+  return v;
 }
 
 LightView makeContainingView(const RectLight& light, const LightRegion& region, const LightView& sample, float znear,

@@ -91,12 +91,16 @@ LightRegion fitRegion(const RectLight& light, const ReceiverImage& receivers);
 // one side and every receiver on that side (a ground under the scene cannot shadow what stands on
 // it); and the smallest depth of the kept triangles' parts inside the region, for the near plane
 // (0 when one reaches the light itself: views then use their smallest near plane).
+// The kept triangles' parts inside the region are also boxed in light space ([lo, hi]; lo.z is
+// minDepth), for views fitted to what can cast a shadow (makeLightView).
 struct CasterSet {
   std::vector<uint32_t> indices;
   std::vector<uint8_t> closed;  // per kept triangle, Geometry::closed's flag (empty when it is)
   size_t trianglesIn = 0, trianglesCulled = 0;
   float minDepth = 0.0f;
+  glm::vec3 lo{0.0f}, hi{0.0f};  // light space; lo.z > 0 when boxed()
   size_t trianglesKept() const { return indices.size() / 3; }
+  bool boxed() const { return lo.z > 0.0f && lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z; }
 };
 // With `receivers`, a large triangle whose plane the receivers' box cannot clear is tested against
 // every receiver (TBB in the caller's arena; at most 64 such scans per call).
@@ -110,6 +114,11 @@ struct LightView {
   float znear = 0.01f;
   int width = 0, height = 0;        // map resolution
   glm::mat4 viewProj{1.0f};         // world -> clip (reversed infinite depth, see above)
+  // The sides of the map cut to the casters (makeLightView; bits as DepthTarget::fillBorder: 1
+  // column 0 = tanLo.x, 2 the last column, 4 row 0 = tanHi.y, 8 the last row): their outermost
+  // texels must be left empty after rendering (clearCasterCutBorder), since the receivers beyond
+  // them read them.
+  unsigned casterCut = 0;
 
   // View-space (x, y, depth) of a world point.
   glm::vec3 toView(glm::vec3 p) const {
@@ -134,8 +143,33 @@ struct LightView {
 // light centre along right and up) on the light, fitted to the region's receivers,
 // width x height texels. Its near plane is `znear` (> 0). `margin` (tangent units) widens the
 // frustum on every side beyond the receivers (for occluders a receiver sees outside them).
+// With `casters` (boxed, and no margin) the frustum is also cut to the casters' box as this light
+// point sees it, widened by kCasterFitMargin texels: a receiver outside it has nothing between it
+// and this light point, and its lookup, clamped to the map's border, reads an empty texel (a
+// rasterized caster covers texel centres inside it, a surfel at most kMaxSurfelReach texels
+// beyond its point). Where the casters cover a small part of the receivers (objects on a wide
+// ground) the same texels cover them finely.
+inline constexpr int kCasterFitMargin = 6;
 LightView makeLightView(const RectLight& light, const LightRegion& region, glm::vec2 lightPoint, float znear,
-                        int width, int height, glm::vec2 margin = glm::vec2(0.0f));
+                        int width, int height, glm::vec2 margin = glm::vec2(0.0f),
+                        const CasterSet* casters = nullptr);
+
+// Empties the outermost texels of the sides of `view` cut to the casters (LightView::casterCut)
+// in a map of `empty`-valued texels: a caster part outside the region (which shadows no receiver)
+// may have been drawn there.
+template <class T>
+void clearCasterCutBorder(const LightView& view, raster::Image<T>& map, T empty) {
+  const int w = map.width(), h = map.height();
+  if (view.casterCut == 0 || w <= 0 || h <= 0) return;
+  for (int x = 0; x < w; ++x) {
+    if (view.casterCut & 4u) map.at(x, 0) = empty;
+    if (view.casterCut & 8u) map.at(x, h - 1) = empty;
+  }
+  for (int y = 0; y < h; ++y) {
+    if (view.casterCut & 1u) map.at(0, y) = empty;
+    if (view.casterCut & 2u) map.at(w - 1, y) = empty;
+  }
+}
 
 // The source view of view-warped multi-view shadows (Marrs et al. 2018, section 3.1): from behind
 // the light's centre, moved back along the normal by D (Eq. 1, from `sample`'s field of view) so

@@ -86,6 +86,7 @@ void renderDepthMap(ShadowContext& ctx, ShadowMap& map, std::span<const CasterDr
   } else {
     for (const CasterDraw& d : draws) draw(d.indices, d.cull);
   }
+  map.depth.fillBorder(0.0f, map.view.casterCut);  // the sides cut to the casters read empty (light_view.h)
   map.prepareLookup();
 }
 

@@ -110,7 +110,9 @@ class Vwss final : public Technique {
     cull_ = casterCull(params);
     surfels_ = params.choice("splat") == "surfel";
     znear_ = ctx.nearPlane();
-    const LightView centre = makeLightView(ctx.in.light, ctx.region, glm::vec2(0.0f), znear_, size_, size_);
+    fitCasters_ = params.choice("fit") == "casters";
+    const LightView centre = makeLightView(ctx.in.light, ctx.region, glm::vec2(0.0f), znear_, size_, size_,
+                                           glm::vec2(0.0f), fitCasters_ ? &ctx.casters : nullptr);
     // Oversampling the source view: a point lands in one texel of each map, and a map texel that
     // no point lands in is a hole; Eq. 3 matches the texel sizes only for surfaces facing both views.
     const float over = static_cast<float>(params.number("oversample"));
@@ -173,7 +175,7 @@ class Vwss final : public Technique {
       for (int k = 0; k < count; ++k) {
         const size_t i = static_cast<size_t>(k);
         views[i] = makeLightView(ctx.in.light, ctx.region, points[static_cast<size_t>(first + k)], znear_,
-                                 size_, size_);
+                                 size_, size_, glm::vec2(0.0f), fitCasters_ ? &ctx.casters : nullptr);
         if (maps[i].width() != views[i].width ||
             maps[i].height() != views[i].height) {  // not for fitted views
           maps[i].resize(views[i].width, views[i].height,
@@ -205,6 +207,9 @@ class Vwss final : public Technique {
         ctx.times.msMaps += msSince(t2);
       }
       ++passes;
+      for (int k = 0; k < count; ++k)  // the sides cut to the casters read empty (light_view.h)
+        clearCasterCutBorder(views[static_cast<size_t>(k)], maps[static_cast<size_t>(k)],
+                             raster::emptyDepthBits(raster::DepthKey::ReversedZOverW));
       const auto t3 = Clock::now();
       for (int k = 0; k < count; ++k) {
         const size_t i = static_cast<size_t>(k);
@@ -268,7 +273,7 @@ class Vwss final : public Technique {
 
   BiasParams bias_;
   int size_ = 0, perPass_ = 0, taps_ = 5, maxSource_ = 0;
-  bool buffered_ = true, allLayers_ = true, containing_ = true, surfels_ = true;
+  bool buffered_ = true, allLayers_ = true, containing_ = true, surfels_ = true, fitCasters_ = true;
   CasterCull cull_ = CasterCull::None;
   float znear_ = 0;
   LightView source_;
@@ -413,6 +418,9 @@ TechniqueInfo vwssTechnique() {
       "what a point writes: its source pixel's footprint, at the texel centres it covers with its "
       "plane's depth there (surfel), or its own depth in the texel it falls in (point, the paper)"));
   p.push_back(samplePatternParam());
+  // Fitted to the receivers: cut to the casters, Eq. 3 asks the source view for the maps' finer
+  // texels, 3-10 times the surfels (docs/techniques/vwss.md).
+  p.push_back(mapFitParam(0));
   return {
       .name = "vwss",
       .summary = "view-warped multi-view soft shadows: one rasterization into points, splatted into N maps",

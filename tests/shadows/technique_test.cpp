@@ -173,6 +173,67 @@ TEST(LightView, RegionCullingAndProjection) {
     }
 }
 
+TEST(LightView, CutToTheCastersCoversThemAndLeavesTheBorderEmpty) {
+  // A wide ground (8 x 8) under a 1 x 1 light at height 4, one small caster (0.4 wide, height 2).
+  RectLight l;
+  ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, l));
+  raster::Rasterizer raster({.threads = 2});
+  const ReceiverImage rec = planeReceivers(32, 32, 4.0f);
+  LightRegion region;
+  raster.run([&] { region = fitRegion(l, rec); });
+  const std::vector<glm::vec3> pos = {{-0.2f, 2, -0.2f}, {0.2f, 2, -0.2f}, {0, 2, 0.2f}};
+  const std::vector<uint32_t> idx = {0, 1, 2};
+  const CasterSet cs = cullCasters(l, region, {pos, idx});
+  ASSERT_TRUE(cs.boxed());
+  EXPECT_NEAR(cs.lo.z, 2.0f, 1e-5f);
+  EXPECT_NEAR(cs.hi.z, 2.0f, 1e-5f);
+  for (const glm::vec2 lp : {glm::vec2(0.0f), glm::vec2(0.4f, -0.3f)}) {
+    const LightView wide = makeLightView(l, region, lp, 1.0f, 64, 64);
+    const LightView cut = makeLightView(l, region, lp, 1.0f, 64, 64, glm::vec2(0.0f), &cs);
+    EXPECT_EQ(wide.casterCut, 0u);
+    EXPECT_EQ(cut.casterCut, 15u);
+    // The caster's texels: about 6 times finer than the receivers' fit (0.4 of a 2 x 2 tangent box).
+    EXPECT_LT((cut.tanHi.x - cut.tanLo.x) * 4.0f, wide.tanHi.x - wide.tanLo.x);
+    // Every point of the caster maps at least kCasterFitMargin texels inside the cut map.
+    for (float a : {0.0f, 0.25f, 0.5f, 1.0f})
+      for (float b : {0.0f, 0.5f, 1.0f}) {
+        if (a + b > 1.0f) continue;
+        const glm::vec3 p = pos[0] + a * (pos[1] - pos[0]) + b * (pos[2] - pos[0]);
+        const glm::vec2 m = cut.toMap(cut.toView(p));
+        for (float c : {m.x, m.y}) {
+          EXPECT_GE(c, static_cast<float>(kCasterFitMargin)) << lp.x;
+          EXPECT_LE(c, 64.0f - static_cast<float>(kCasterFitMargin)) << lp.x;
+        }
+      }
+    // A margin (a widened map) keeps the receivers' fit.
+    EXPECT_EQ(makeLightView(l, region, lp, 1.0f, 64, 64, glm::vec2(0.1f), &cs).casterCut, 0u);
+  }
+  // A caster wider than the receivers cuts nothing.
+  const std::vector<glm::vec3> big = {{-30, 2, -30}, {30, 2, -30}, {0, 2, 30}};
+  const CasterSet all = cullCasters(l, region, {big, idx});
+  ASSERT_TRUE(all.boxed());
+  const LightView same = makeLightView(l, region, glm::vec2(0.0f), 1.0f, 64, 64, glm::vec2(0.0f), &all);
+  const LightView wide = makeLightView(l, region, glm::vec2(0.0f), 1.0f, 64, 64);
+  EXPECT_EQ(same.casterCut, 0u);
+  EXPECT_EQ(same.tanLo, wide.tanLo);
+  EXPECT_EQ(same.tanHi, wide.tanHi);
+
+  // The border of the cut sides is emptied, the coarse record still bounding it.
+  raster::DepthTarget t(20, 12, 0.5f);
+  t.fillBorder(0.0f, 2u | 4u);
+  for (int y = 0; y < 12; ++y)
+    for (int x = 0; x < 20; ++x) EXPECT_EQ(t.at(x, y), (x == 19 || y == 0) ? 0.0f : 0.5f) << x << "," << y;
+  EXPECT_EQ(t.blockMin()[0], 0.0f);
+  EXPECT_EQ(t.blockMax()[0], 0.5f);
+  EXPECT_EQ(t.blockMin()[static_cast<size_t>(t.blocksX())], 0.5f);  // the second row of blocks: untouched
+  raster::Image<uint32_t> bits(5, 4, 7u);
+  LightView v;
+  v.casterCut = 1u | 8u;
+  clearCasterCutBorder(v, bits, 0u);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 5; ++x) EXPECT_EQ(bits.at(x, y), (x == 0 || y == 3) ? 0u : 7u) << x << "," << y;
+}
+
 TEST(LightView, ReceiverPlaneDepth) {
   RectLight l;
   ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, l));

@@ -816,6 +816,53 @@ TEST(Techniques, MvrConvergesWithViews) {
   EXPECT_LT(previous, 0.001);
 }
 
+TEST(Techniques, MapsCutToTheCastersAreFinerAndLeaveTheRestLit) {
+  // One small square caster (0.5 wide, height 2) over a wide ground (x, z in [-4, 4]) under a 1 x 1
+  // light at height 4: fitted to the receivers, a 64^2 map gives the caster 8 texels a side; cut
+  // to it, about 52. Every receiver the reference sees fully lit stays exactly lit, and the
+  // penumbra follows the reference more closely. Measured (RMSE against the reference): mvr 0.0090
+  // fitted to the receivers, 0.0035 cut; vwss 0.0116, 0.0076.
+  constexpr int kN = 96;
+  ReceiverImage rec(kN, kN);
+  for (int j = 0; j < kN; ++j)
+    for (int i = 0; i < kN; ++i)
+      rec.at(i, j) = {{-4.0f + 8.0f * (static_cast<float>(i) + 0.5f) / kN, 0.0f,
+                       -4.0f + 8.0f * (static_cast<float>(j) + 0.5f) / kN},
+                      {0, 1, 0},
+                      1u};
+  const std::vector<glm::vec3> pos = {
+      {-0.25f, 2, -0.25f}, {0.25f, 2, -0.25f}, {0.25f, 2, 0.25f}, {-0.25f, 2, 0.25f}};
+  const std::vector<uint32_t> idx = {0, 1, 2, 0, 2, 3};
+  ShadowInputs in;
+  makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, in.light);
+  in.casters = {pos, idx};
+  in.receivers = &rec;
+  const raster::ImageFloat ref = run(*findTechnique("reference"), in, 2, "samples=1024");
+  const auto rmse = [&](const raster::ImageFloat& v) {
+    double sum = 0;
+    for (int j = 0; j < kN; ++j)
+      for (int i = 0; i < kN; ++i) sum += std::pow(static_cast<double>(v.at(i, j) - ref.at(i, j)), 2.0);
+    return std::sqrt(sum / (kN * kN));
+  };
+  for (const char* name : {"mvr", "vwss"}) {
+    const std::string common = "map_size=64,views=64,";
+    const raster::ImageFloat wide = run(*findTechnique(name), in, 2, common + "fit=receivers");
+    const raster::ImageFloat cut = run(*findTechnique(name), in, 2, common + "fit=casters");
+    int lit = 0;
+    for (int j = 0; j < kN; ++j)
+      for (int i = 0; i < kN; ++i)
+        if (ref.at(i, j) == 1.0f) {
+          ++lit;
+          EXPECT_EQ(cut.at(i, j), 1.0f) << name << " at " << i << "," << j;
+        }
+    EXPECT_GT(lit, kN * kN / 2);
+    std::printf(
+        "%s: RMSE against the reference, maps fitted to the receivers %.4f, cut to the casters %.4f\n", name,
+        rmse(wide), rmse(cut));
+    EXPECT_LT(rmse(cut), 0.8 * rmse(wide)) << name;
+  }
+}
+
 TEST(Techniques, InterleavedSubsetsAreStratifiedAndCoverTheLight) {
   RectLight light;
   ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 2.0f, 1.0f, glm::vec3(1), 1, light));
