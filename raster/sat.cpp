@@ -131,6 +131,13 @@ MultiSat<Sum> buildMulti(const Planes<Pixel>& src) {
   return t;
 }
 
+constexpr int kMaxGrid = 8;  // gridSums' n
+
+// The n + 1 lines splitting [a0, a1) into n equal parts (unclamped).
+void gridLines(double a0, double a1, int n, double* g) {
+  for (int k = 0; k <= n; ++k) g[k] = a0 + (a1 - a0) * (static_cast<double>(k) / n);
+}
+
 // Ceil halving (kernels.h).
 int half(int n) {
   return (n + 1) / 2;
@@ -147,7 +154,7 @@ double MultiSat<Sum>::boxSum(double x0, double y0, double x1, double y1, double*
 template <class Sum>
 void MultiSat<Sum>::gridSums(double x0, double y0, double x1, double y1, int n, double* out,
                              double* area) const {
-  constexpr int kMaxN = 8;
+  constexpr int kMaxN = kMaxGrid;
   if (n < 1 || n > kMaxN) throw std::invalid_argument("gridSums: n " + std::to_string(n) + " outside [1, 8]");
   const int ch = channels;
   std::fill(out, out + n * n * ch, 0.0);
@@ -258,11 +265,24 @@ int stgTileSize(int bits) {
 }
 
 TiledSat buildTiledSat(const Planes<float>& src, int bits, const std::vector<uint8_t>& tileNeeded) {
+  const size_t ch = static_cast<size_t>(std::max(src.channels, 0));
+  return buildTiledSat(
+      src.width, src.height, src.channels, bits,
+      [&](int x0, int y0, int w, int h, float* out) {
+        for (int y = 0; y < h; ++y)
+          std::copy_n(src.pixel(x0, y0 + y), static_cast<size_t>(w) * ch,
+                      out + static_cast<size_t>(y * w) * ch);
+      },
+      tileNeeded);
+}
+
+TiledSat buildTiledSat(int width, int height, int channels, int bits, const TileFill& fill,
+                       const std::vector<uint8_t>& tileNeeded) {
   TiledSat t;
-  t.width = src.width, t.height = src.height, t.channels = src.channels, t.bits = bits;
+  t.width = width, t.height = height, t.channels = channels, t.bits = bits;
   t.tile = stgTileSize(bits);
-  if (src.channels < 1 || src.channels > kMaxSatChannels)
-    throw std::invalid_argument("buildTiledSat: " + std::to_string(src.channels) + " channels");
+  if (channels < 1 || channels > kMaxSatChannels)
+    throw std::invalid_argument("buildTiledSat: " + std::to_string(channels) + " channels");
   const int T = t.tile, ch = t.channels;
   t.tilesX = (t.width + T - 1) / T, t.tilesY = (t.height + T - 1) / T;
   const size_t tiles = static_cast<size_t>(t.tilesX) * static_cast<size_t>(t.tilesY);
@@ -281,17 +301,23 @@ TiledSat buildTiledSat(const Planes<float>& src, int bits, const std::vector<uin
   t.sums.assign(t.tilesBuilt * entrySize, 0u);
   const double maxQ = static_cast<double>((1u << bits) - 1u);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<float> texels(static_cast<size_t>(T) * static_cast<size_t>(T) * static_cast<size_t>(ch));
     for (size_t ti = r.begin(); ti < r.end(); ++ti) {
       if (!t.built[ti]) continue;
       const int tx = static_cast<int>(ti % static_cast<size_t>(t.tilesX)),
                 ty = static_cast<int>(ti / static_cast<size_t>(t.tilesX));
       const int x0 = tx * T, y0 = ty * T, tw = std::min(T, t.width - x0), th = std::min(T, t.height - y0);
+      fill(x0, y0, tw, th, texels.data());
+      const auto pixel = [&](int x, int y) {
+        return texels.data() + (static_cast<size_t>(y) * static_cast<size_t>(tw) + static_cast<size_t>(x)) *
+                                   static_cast<size_t>(ch);
+      };
       double lo[kMaxSatChannels], hi[kMaxSatChannels];
       std::fill(lo, lo + ch, std::numeric_limits<double>::infinity());
       std::fill(hi, hi + ch, -std::numeric_limits<double>::infinity());
       for (int y = 0; y < th; ++y)
         for (int x = 0; x < tw; ++x) {
-          const float* p = src.pixel(x0 + x, y0 + y);
+          const float* p = pixel(x, y);
           for (int c = 0; c < ch; ++c) {
             const double v = static_cast<double>(p[c]);
             if (v < lo[c]) lo[c] = v;
@@ -312,7 +338,7 @@ TiledSat buildTiledSat(const Planes<float>& src, int bits, const std::vector<uin
         const uint32_t* above = s + static_cast<size_t>(y) * stride;
         uint32_t acc[kMaxSatChannels] = {};
         for (int x = 0; x < tw; ++x) {
-          const float* p = src.pixel(x0 + x, y0 + y);
+          const float* p = pixel(x, y);
           for (int c = 0; c < ch; ++c) {
             const double q = tstep[c] > 0.0 ? (static_cast<double>(p[c]) - tlo[c]) / tstep[c] : 0.0;
             acc[c] += !(q > 0.0)  ? 0u
@@ -364,6 +390,122 @@ double TiledSat::boxSum(double x0, double y0, double x1, double y1, double* out,
         for (int c = 0; c < channels; ++c) bound[c] += 0.5 * tstep[c] * a;
     }
   return (cx1 - cx0) * (cy1 - cy0);
+}
+
+namespace {
+// TiledSat::gridSums with the channel count fixed at compile time (C > 0; 0: t.channels).
+template <int C>
+void tiledGridSums(const TiledSat& t, double x0, double y0, double x1, double y1, int n, double* out,
+                   double* area, double* bound) {
+  if (n < 1 || n > kMaxGrid)
+    throw std::invalid_argument("gridSums: n " + std::to_string(n) + " outside [1, 8]");
+  const int ch = C > 0 ? C : t.channels, parts = n * n;
+  std::fill(out, out + parts * ch, 0.0);
+  std::fill(area, area + parts, 0.0);
+  if (bound) std::fill(bound, bound + parts * ch, 0.0);
+  const double cx0 = std::max(x0, 0.0), cy0 = std::max(y0, 0.0);
+  const double cx1 = std::min(x1, static_cast<double>(t.width)),
+               cy1 = std::min(y1, static_cast<double>(t.height));
+  if (!(cx0 < cx1 && cy0 < cy1)) return;
+  double gx[kMaxGrid + 1], gy[kMaxGrid + 1];
+  gridLines(x0, x1, n, gx);
+  gridLines(y0, y1, n, gy);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double w = std::clamp(gx[i + 1], 0.0, static_cast<double>(t.width)) -
+                       std::clamp(gx[i], 0.0, static_cast<double>(t.width));
+      const double h = std::clamp(gy[j + 1], 0.0, static_cast<double>(t.height)) -
+                       std::clamp(gy[j], 0.0, static_cast<double>(t.height));
+      area[j * n + i] = std::max(w, 0.0) * std::max(h, 0.0);
+    }
+  const int T = t.tile;
+  const int tx0 = static_cast<int>(cx0) / T, ty0 = static_cast<int>(cy0) / T;
+  const int tx1 = (ceilOf(cx1) - 1) / T, ty1 = (ceilOf(cy1) - 1) / T;
+  const size_t entrySize = static_cast<size_t>(T + 1) * static_cast<size_t>(T + 1) * static_cast<size_t>(ch);
+  const size_t stride = static_cast<size_t>(T + 1) * static_cast<size_t>(ch);
+  // The sub-boxes a span [o, o + size) of one axis meets: [first, last], a superset (the lines
+  // are clamped to the tile below, so a sub-box outside it gets area 0 there).
+  const auto span = [n](const double* g, double o, int size, int& first, int& last) {
+    first = 0, last = n - 1;
+    while (first < n - 1 && g[first + 1] <= o) ++first;
+    while (last > first && g[last] >= o + size) --last;
+  };
+  // R(x, y) = the tile's integral over [0, x) x [0, y), x in [0, tw], y in [0, th]: bilinear in
+  // its entries (exact for piecewise-constant texels), which are below 2^32 and exact in double.
+  // At integer coordinates one entry (the first row and column hold 0).
+  double r[(kMaxGrid + 1) * (kMaxGrid + 1) * (C > 0 ? C : kMaxSatChannels)];
+  double lx[kMaxGrid + 1], ly[kMaxGrid + 1];
+  for (int ty = ty0; ty <= ty1; ++ty)
+    for (int tx = tx0; tx <= tx1; ++tx) {
+      const size_t ti = static_cast<size_t>(ty) * static_cast<size_t>(t.tilesX) + static_cast<size_t>(tx);
+      if (!t.built[ti]) {
+        std::fill(out, out + parts * ch, std::numeric_limits<double>::quiet_NaN());
+        return;
+      }
+      const double ox = static_cast<double>(tx * T), oy = static_cast<double>(ty * T);
+      const int tw = std::min(T, t.width - tx * T), th = std::min(T, t.height - ty * T);
+      int i0, i1, j0, j1;
+      span(gx, ox, tw, i0, i1);
+      span(gy, oy, th, j0, j1);
+      const int mx = i1 - i0 + 1, my = j1 - j0 + 1;
+      for (int k = 0; k <= mx; ++k) lx[k] = std::clamp(gx[i0 + k] - ox, 0.0, static_cast<double>(tw));
+      for (int k = 0; k <= my; ++k) ly[k] = std::clamp(gy[j0 + k] - oy, 0.0, static_cast<double>(th));
+      const uint32_t* s = t.sums.data() + t.offset[ti] * entrySize;
+      const auto entry = [&](int x, int y) {
+        return s + static_cast<size_t>(y) * stride + static_cast<size_t>(x) * static_cast<size_t>(ch);
+      };
+      const auto value = [](uint32_t v) { return static_cast<double>(static_cast<int64_t>(v)); };
+      for (int l = 0; l <= my; ++l) {
+        const int iy = static_cast<int>(ly[l]);  // >= 0: truncation is the floor
+        const double fy = ly[l] - iy;            // 0 at y = th
+        for (int k = 0; k <= mx; ++k) {
+          double* d = r + (l * (mx + 1) + k) * ch;
+          const int ix = static_cast<int>(lx[k]);
+          const double fx = lx[k] - ix;
+          const uint32_t* e00 = entry(ix, iy);
+          if (fx == 0.0 && fy == 0.0) {
+            for (int c = 0; c < ch; ++c) d[c] = value(e00[c]);
+          } else if (fx == 0.0) {
+            const uint32_t* e01 = entry(ix, iy + 1);
+            for (int c = 0; c < ch; ++c) d[c] = (1.0 - fy) * value(e00[c]) + fy * value(e01[c]);
+          } else if (fy == 0.0) {
+            const uint32_t* e10 = entry(ix + 1, iy);
+            for (int c = 0; c < ch; ++c) d[c] = (1.0 - fx) * value(e00[c]) + fx * value(e10[c]);
+          } else {
+            const uint32_t *e10 = entry(ix + 1, iy), *e01 = entry(ix, iy + 1), *e11 = entry(ix + 1, iy + 1);
+            for (int c = 0; c < ch; ++c)
+              d[c] = (1.0 - fy) * ((1.0 - fx) * value(e00[c]) + fx * value(e10[c])) +
+                     fy * ((1.0 - fx) * value(e01[c]) + fx * value(e11[c]));
+          }
+        }
+      }
+      const double* tlo = t.lo.data() + ti * ch;
+      const double* tstep = t.step.data() + ti * ch;
+      for (int j = 0; j < my; ++j)
+        for (int i = 0; i < mx; ++i) {
+          const double a = (lx[i + 1] - lx[i]) * (ly[j + 1] - ly[j]);
+          if (!(a > 0.0)) continue;
+          const int p = (j0 + j) * n + i0 + i;
+          double* o = out + p * ch;
+          const double* ra = r + (j * (mx + 1) + i) * ch;
+          const double* rb = r + (j * (mx + 1) + i + 1) * ch;
+          const double* rc = r + ((j + 1) * (mx + 1) + i) * ch;
+          const double* rd = r + ((j + 1) * (mx + 1) + i + 1) * ch;
+          for (int c = 0; c < ch; ++c) o[c] += tlo[c] * a + tstep[c] * (rd[c] - rc[c] - rb[c] + ra[c]);
+          if (bound)
+            for (int c = 0; c < ch; ++c) bound[p * ch + c] += 0.5 * tstep[c] * a;
+        }
+    }
+}
+
+}  // namespace
+
+void TiledSat::gridSums(double x0, double y0, double x1, double y1, int n, double* out, double* area,
+                        double* bound) const {
+  if (channels == 4)
+    tiledGridSums<4>(*this, x0, y0, x1, y1, n, out, area, bound);
+  else
+    tiledGridSums<0>(*this, x0, y0, x1, y1, n, out, area, bound);
 }
 
 // --- Four-channel mips ---------------------------------------------------------------------------

@@ -45,6 +45,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "raster/image.h"
@@ -111,10 +112,25 @@ struct TiledSat {
   // bound (optional, `channels` values): the quantization error bound of each channel's sum, half
   // a step of each tile per unit of area it contributes.
   double boxSum(double x0, double y0, double x1, double y1, double* out, double* bound = nullptr) const;
+  // The box split into n x n equal sub-boxes (n in [1, 8]), laid out as MultiSat::gridSums, and
+  // bound (optional, n * n * channels values) as boxSum's per sub-box. Each tile the box touches
+  // is read once for the parts of every sub-box inside it (the tile's integral at the grid points,
+  // bilinear in its entries), not once per sub-box: the same sums as n^2 boxSum calls to the
+  // rounding of that double arithmetic (relative to the tile's sums, which are below 2^32: about
+  // 2^-20 of a quantization step, against the bound's half step per texel).
+  void gridSums(double x0, double y0, double x1, double y1, int n, double* out, double* area,
+                double* bound = nullptr) const;
 };
 // T = 2^floor((32 - bits) / 2): T^2 (2^bits - 1) < 2^32 (bits in [1, 24]).
 int stgTileSize(int bits);
 TiledSat buildTiledSat(const Planes<float>& src, int bits, const std::vector<uint8_t>& tileNeeded = {});
+// The same from a generator instead of a whole image: fill(x0, y0, w, h, out) writes the `channels`
+// values of each texel of [x0, x0 + w) x [y0, y0 + h), row-major, into out. It is called once per
+// built tile, from several threads at once, so only the tiles that are needed are ever computed
+// (the same table as from the image the generator describes).
+using TileFill = std::function<void(int x0, int y0, int w, int h, float* out)>;
+TiledSat buildTiledSat(int width, int height, int channels, int bits, const TileFill& fill,
+                       const std::vector<uint8_t>& tileNeeded = {});
 
 // Box-filtered mip chain of a four-channel image (the conventions of kernels.h: ceil halving, each
 // texel the mean in double of its 1, 2 or 4 children).

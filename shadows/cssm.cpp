@@ -56,7 +56,7 @@ class Cssm final : public Technique {
       const double kk = static_cast<double>(k + 1) / order_;
       wk_[k] = 2.0 * std::exp(-alpha * kk * kk) / ck;
     }
-    preparePrefilterMap(ctx, params, m_);
+    preparePrefilterMap(ctx, params, m_, {.moments = false, .pyramid = true});
     lo_ = static_cast<double>(m_.zMin);
     range_ = std::max(static_cast<double>(m_.zMax) - lo_, 1e-6);
 
@@ -148,11 +148,11 @@ class Cssm final : public Technique {
         const double* s = sums + (j * n + i) * channels_;
         const double sx0 = x0 + (x1 - x0) * i / n, sx1 = x0 + (x1 - x0) * (i + 1) / n;
         const double sy0 = y0 + (y1 - y0) * j / n, sy1 = y0 + (y1 - y0) * (j + 1) / n;
-        const double zc = k.zrAt(m_, 0.5 * (sx0 + sx1), 0.5 * (sy0 + sy1));
+        const double zc = k.zrAt(0.5 * (sx0 + sx1), 0.5 * (sy0 + sy1));
         const double occ = s[channels_ - 1], uSum = s[channels_ - 2];
         r.area += a;
         if (bounds_) {
-          const PlaneBounds pb = planeBounds(m_, m_.pyramid, k, sx0, sy0, sx1, sy1);
+          const PlaneBounds pb = planeBounds(m_.pyramid, k, sx0, sy0, sx1, sy1);
           if (pb.mn >= pb.hi) {
             r.lit += a, ++counts.lit;
             continue;
@@ -261,8 +261,8 @@ TechniqueInfo cssmTechnique() {
                 const auto m = static_cast<uint64_t>(ps.integer("order"));
                 const auto c =
                     2 * m + 2 * std::min(m, static_cast<uint64_t>(ps.integer("blocker_order"))) + 2;
-                // Moments (16), z (4), pyramid (~5.3), planes (4 c), table (8 c).
-                return n * n * (26 + 12 * c);
+                // z (4), pyramid (~5.3), planes (4 c), table (8 c).
+                return n * n * (10 + 12 * c);
               }};
 }
 

@@ -63,7 +63,7 @@ class Essm final : public Technique {
     rowHeight_ = params.number("rect_height");
     satKind_ = params.choice("sat");
     const int bits = params.integer("bits");
-    preparePrefilterMap(ctx, params, m_);
+    preparePrefilterMap(ctx, params, m_, {.moments = false, .pyramid = false});
 
     const auto t0 = Clock::now();
     const double range = std::max(static_cast<double>(m_.zMax) - static_cast<double>(m_.zMin), 1e-6);
@@ -73,30 +73,48 @@ class Essm final : public Technique {
     behindTolerance_ = std::log1p(eps_) / c_;
     leakDepth_ = leakTolerance_ > 0.0 ? -std::log(leakTolerance_) / c_ : 0.0;
     const int w = m_.z.width(), h = m_.z.height();
-    raster::Planes<float> planes(w, h, kChannels);
-    raster::ImageFloat occupiedZ(w, h);
+    // The channels of one texel: e, e z, z, o; all 0 where no caster covers it.
+    const auto texel = [this](float zf, float* p) {
+      if (PrefilterMap::empty(zf)) {
+        p[0] = p[1] = p[2] = p[3] = 0.0f;
+        return;
+      }
+      const auto z = static_cast<double>(zf);
+      const double e = std::exp(c_ * (z - static_cast<double>(m_.zMax)));
+      p[0] = static_cast<float>(e), p[1] = static_cast<float>(e * z), p[2] = zf, p[3] = 1.0f;
+    };
     ctx.raster.run([&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& r) {
-        for (int y = r.begin(); y < r.end(); ++y)
-          for (int x = 0; x < w; ++x) {
-            const float zf = m_.z.at(x, y);
-            float* p = planes.pixel(x, y);
-            occupiedZ.at(x, y) = PrefilterMap::empty(zf) ? 0.0f : zf;
-            if (PrefilterMap::empty(zf)) {
-              p[0] = p[1] = p[2] = p[3] = 0.0f;
-              continue;
+      if (minMaxTest_) {
+        raster::ImageFloat occupiedZ(w, h);
+        tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& r) {
+          for (int y = r.begin(); y < r.end(); ++y)
+            for (int x = 0; x < w; ++x) {
+              const float zf = m_.z.at(x, y);
+              occupiedZ.at(x, y) = PrefilterMap::empty(zf) ? 0.0f : zf;
             }
-            const auto z = static_cast<double>(zf);
-            const double e = std::exp(c_ * (z - static_cast<double>(m_.zMax)));
-            p[0] = static_cast<float>(e), p[1] = static_cast<float>(e * z), p[2] = zf, p[3] = 1.0f;
-          }
-      });
-      if (minMaxTest_) occupied_ = raster::buildMinMaxPyramid(occupiedZ);
+        });
+        occupied_ = raster::buildMinMaxPyramid(occupiedZ);
+      }
       if (satKind_ == "tiled") {
+        // Straight from the depths, tile by tile: texels no receiver's kernel reaches are never
+        // computed (nor the whole map's channels stored).
         const int T = raster::stgTileSize(bits);
         const int tx = (w + T - 1) / T, ty = (h + T - 1) / T;
-        tiled_ = raster::buildTiledSat(planes, bits, tilesReached(ctx, m_, bias_, T, tx, ty));
-      } else if (satKind_ == "integer") {
+        tiled_ = raster::buildTiledSat(
+            w, h, kChannels, bits,
+            [&](int x0, int y0, int tw, int th, float* out) {
+              for (int y = 0; y < th; ++y)
+                for (int x = 0; x < tw; ++x) texel(m_.z.at(x0 + x, y0 + y), out + (y * tw + x) * kChannels);
+            },
+            tilesReached(ctx, m_, bias_, T, tx, ty));
+        return;
+      }
+      raster::Planes<float> planes(w, h, kChannels);
+      tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& r) {
+        for (int y = r.begin(); y < r.end(); ++y)
+          for (int x = 0; x < w; ++x) texel(m_.z.at(x, y), planes.pixel(x, y));
+      });
+      if (satKind_ == "integer") {
         // The paper's normalization (section 6.2): each channel's range over the map to [0, 1].
         // Empty texels hold 0 in every channel, so every range starts at 0.
         const auto zHi = static_cast<double>(m_.zMax);
@@ -197,8 +215,12 @@ class Essm final : public Technique {
     double whole[kChannels] = {};
     if (satKind_ == "double") double_.roundingBound(x1, y1, whole);
     if (satKind_ == "float") float_.roundingBound(x1, y1, whole);
-    if (nx == ny && satKind_ != "tiled") {
-      if (satKind_ == "integer")
+    if (nx == ny) {
+      if (satKind_ == "tiled") {
+        double bound[kMaxSub * kMaxSub * kChannels];
+        tiled_.gridSums(x0, y0, x1, y1, nx, o, area, bound);
+        for (int i = 0; i < parts; ++i) err[i] = bound[i * kChannels];
+      } else if (satKind_ == "integer")
         integer_.gridSums(x0, y0, x1, y1, nx, o, area);
       else if (satKind_ == "double")
         double_.gridSums(x0, y0, x1, y1, nx, o, area);
@@ -247,13 +269,13 @@ class Essm final : public Technique {
     precisionMiss = false;
     if (!(s.area > 0.0)) return r;
     const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
-    const double zc = k.zrAt(m_, cx, cy);
+    const double zc = k.zrAt(cx, cy);
     // Against the unbiased plane (zc + biasZ): the receiver's own surface reads 1, not
     // exp(c biasZ), which would brighten every partly blocked kernel by that factor.
     double logK = c_ * (static_cast<double>(m_.zMax) - zc - k.biasZ);
     if (k.usePlane) {
-      const double gx = 0.5 * (k.zrAt(m_, cx + 1.0, cy) - k.zrAt(m_, cx - 1.0, cy));
-      const double gy = 0.5 * (k.zrAt(m_, cx, cy + 1.0) - k.zrAt(m_, cx, cy - 1.0));
+      const double gx = 0.5 * (k.zrAt(cx + 1.0, cy) - k.zrAt(cx - 1.0, cy));
+      const double gy = 0.5 * (k.zrAt(cx, cy + 1.0) - k.zrAt(cx, cy - 1.0));
       logK -= logSinhc(c_ * std::abs(gx) * 0.5 * (x1 - x0)) + logSinhc(c_ * std::abs(gy) * 0.5 * (y1 - y0));
     }
     const double kf = std::exp(std::min(logK, 700.0));  // receivers nearer than every caster: no overflow
@@ -269,7 +291,7 @@ class Essm final : public Technique {
     if (planar && minMaxTest_) {
       // Over the texels the pyramid's bounds cover (a little more than the box): the plane's
       // largest depth there is at a corner (1/d is linear in the map, so d is monotone along lines).
-      const PlaneBounds pb = planeBounds(m_, occupied_, k, x0, y0, x1, y1);
+      const PlaneBounds pb = planeBounds(occupied_, k, x0, y0, x1, y1);
       planar = pb.mx <= pb.hi + k.biasZ + behindTolerance_;
     }
     const double lit = std::min(raw, 1.0);
@@ -294,7 +316,7 @@ class Essm final : public Technique {
       for (int i = 0; i < g; ++i) {
         const double tx = x0 + (x1 - x0) * (i + 0.5) / g, ty = y0 + (y1 - y0) * (j + 0.5) / g;
         const auto z = static_cast<double>(m_.zAt(tx, ty));
-        if (z >= k.zrAt(m_, tx, ty))
+        if (z >= k.zrAt(tx, ty))
           ++lit;
         else
           blocked += z;
@@ -523,8 +545,15 @@ TechniqueInfo essmTechnique() {
           .peakBytes =
               [](const ParamSet& ps, uint64_t) {
                 const uint64_t n = static_cast<uint64_t>(ps.integer("map_size"));
-                // Moments (16), z (4), pyramid (~5.3), planes (12), SAT (24 for 64-bit tables).
-                return n * n * 62;
+                // z (4), the occupied depths and their pyramid (~9.3), then the tile grid (at most
+                // 17: 4 channels of 4 bytes, (T + 1)^2 / T^2 of them), or the whole map's channels
+                // (16) and its table (integer: 16 quantized + 32; double 32; float 16).
+                const std::string sat = ps.choice("sat");
+                const uint64_t perTexel = sat == "tiled"     ? 31
+                                          : sat == "integer" ? 78
+                                          : sat == "double"  ? 62
+                                                             : 46;
+                return n * n * perTexel;
               }};
 }
 

@@ -105,14 +105,16 @@ std::vector<ParamSpec> chebyshevParams(double defaultMinVariance) {
   };
 }
 
-void renderMomentMap(ShadowContext& ctx, MomentMap& map) {
+namespace {
+// Draws the map's casters; write(x, y, z) receives each texel's nearest caster's normalized depth
+// (fragments of a tile arrive in submission order and only when nearer than what the texel holds,
+// so the last write is the nearest caster's).
+template <class Write>
+void drawMomentCasters(ShadowContext& ctx, MomentMap& map, Write write) {
   const LightView& view = map.view;
   map.zNear = view.znear;
   // The farthest receiver with 1% margin; never at or in front of the near plane.
   map.zFar = std::max(ctx.region.hi.z * 1.01f, view.znear * 1.01f + 1e-30f);
-  const MomentWarp warp = map.warp;
-  map.texels.resize(view.width, view.height, warp.moments(1.0f));
-
   raster::DepthTarget depth(view.width, view.height, 0.0f);
   ctx.raster.clear(depth, 0.0f);
   const glm::vec3* pos = ctx.in.casters.positions.data();
@@ -124,7 +126,6 @@ void renderMomentMap(ShadowContext& ctx, MomentMap& map) {
   desc.cull = raster::CullMode::None;
   desc.depthFunc = raster::DepthFunc::Greater;  // reversed depth near / d: keeps the nearest caster
   const glm::mat4 m = view.viewProj;
-  raster::ImageFloat4& target = map.texels;
   const MomentMap& mm = map;
   ctx.mapPasses += ctx.raster.draw(
       desc, depth,
@@ -133,11 +134,21 @@ void renderMomentMap(ShadowContext& ctx, MomentMap& map) {
         vary[0] = view.toView(pos[i]).z;
         return m * glm::vec4(pos[i], 1.0f);
       },
-      // Fragments of a tile arrive in submission order and only when nearer than what the texel
-      // holds, so the last write is the nearest caster's.
-      [&](const raster::Fragment& f) {
-        target.at(f.x, f.y) = warp.moments(mm.normalizedDepth(f.varyings[0]));
-      });
+      [&](const raster::Fragment& f) { write(f.x, f.y, mm.normalizedDepth(f.varyings[0])); });
+}
+}  // namespace
+
+void renderMomentMap(ShadowContext& ctx, MomentMap& map) {
+  const MomentWarp warp = map.warp;
+  map.texels.resize(map.view.width, map.view.height, warp.moments(1.0f));
+  raster::ImageFloat4& target = map.texels;
+  drawMomentCasters(ctx, map, [&](int x, int y, float z) { target.at(x, y) = warp.moments(z); });
+}
+
+void renderNormalizedDepth(ShadowContext& ctx, MomentMap& map, raster::ImageFloat& z) {
+  map.texels = raster::ImageFloat4();
+  ctx.raster.run([&] { z.resizeParallel(map.view.width, map.view.height, 1.0f); });
+  drawMomentCasters(ctx, map, [&](int x, int y, float zn) { z.at(x, y) = zn; });
 }
 
 void filterMomentMap(ShadowContext& ctx, MomentMap& map, float sigma) {

@@ -136,6 +136,10 @@ std::vector<uint32_t> momentCasters(const Geometry& casters, const LightView& vi
 // caller; map.zNear = view.znear, map.zFar = 1.01 * region.hi.z are set here) with
 // Rasterizer::draw, one varying (the view depth d), and adds the pass's stats to ctx.mapPasses.
 void renderMomentMap(ShadowContext& ctx, MomentMap& map);
+// The same pass with only the normalized depth z of each texel written, into `z` (1 where no
+// caster covers it): map.texels stays empty. For techniques that need z alone (4 bytes a texel
+// instead of 16).
+void renderNormalizedDepth(ShadowContext& ctx, MomentMap& map, raster::ImageFloat& z);
 // Gaussian blur of the used channels, sigma in texels (0: none), in the rasterizer's arena.
 void filterMomentMap(ShadowContext& ctx, MomentMap& map, float sigma);
 

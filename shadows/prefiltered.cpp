@@ -17,31 +17,40 @@ float PrefilterMap::zAt(double x, double y) const {
   return z.at(ix, iy);
 }
 
-void preparePrefilterMap(ShadowContext& ctx, const ParamSet& params, PrefilterMap& m) {
+void preparePrefilterMap(ShadowContext& ctx, const ParamSet& params, PrefilterMap& m, PrefilterNeeds needs) {
   const auto t0 = Clock::now();
   const int size = params.integer("map_size");
   m.map.view = makeLightView(ctx.in.light, ctx.region, glm::vec2(0.0f), ctx.nearPlane(), size, size);
   m.map.warp = MomentWarp{.kind = MomentKind::Vsm, .cPos = 0.0f, .cNeg = 0.0f};
-  renderMomentMap(ctx, m.map);
+  if (needs.moments)
+    renderMomentMap(ctx, m.map);
+  else
+    renderNormalizedDepth(ctx, m.map, m.z);
   ctx.times.msMaps += msSince(t0);
   const auto t1 = Clock::now();
   const LightView& v = m.map.view;
   m.tpx = static_cast<double>(v.width) / static_cast<double>(v.tanHi.x - v.tanLo.x);
   m.tpy = static_cast<double>(v.height) / static_cast<double>(v.tanHi.y - v.tanLo.y);
-  m.z.resize(v.width, v.height);
-  std::vector<float> rowMax(static_cast<size_t>(v.height), -INFINITY);
+  if (needs.moments) m.z.resize(v.width, v.height);
+  std::vector<float> rowMin(static_cast<size_t>(v.height), INFINITY),
+      rowMax(static_cast<size_t>(v.height), -INFINITY);
   ctx.raster.run([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, v.height, 16), [&](const tbb::blocked_range<int>& r) {
-      for (int y = r.begin(); y < r.end(); ++y)
+      for (int y = r.begin(); y < r.end(); ++y) {
+        float lo = INFINITY, hi = -INFINITY;
         for (int x = 0; x < v.width; ++x) {
-          const float z = m.map.texels.at(x, y).r;
-          m.z.at(x, y) = z;
-          if (z < 1.0f) rowMax[static_cast<size_t>(y)] = std::max(rowMax[static_cast<size_t>(y)], z);
+          const float z = needs.moments ? m.map.texels.at(x, y).r : m.z.at(x, y);
+          if (needs.moments) m.z.at(x, y) = z;
+          lo = std::min(lo, z);
+          if (z < 1.0f) hi = std::max(hi, z);
         }
+        rowMin[static_cast<size_t>(y)] = lo, rowMax[static_cast<size_t>(y)] = hi;
+      }
     });
-    m.pyramid = raster::buildMinMaxPyramid(m.z);
+    if (needs.pyramid) m.pyramid = raster::buildMinMaxPyramid(m.z);
   });
-  m.zMin = m.pyramid.mins.back().at(0, 0);
+  m.zMin = INFINITY;
+  for (float z : rowMin) m.zMin = std::min(m.zMin, z);
   m.zMax = m.zMin;
   for (float z : rowMax) m.zMax = std::max(m.zMax, z);
   ctx.times.msFilter += msSince(t1);
@@ -56,15 +65,26 @@ ReceiverKernel receiverKernel(const PrefilterMap& m, const ShadowContext& ctx, c
   const glm::vec2 searchTan = halfLight * std::max(1.0f / znear - 1.0f / v.z, 0.0f);
   const glm::vec2 c = view.toMap(v);
   const auto zr = static_cast<double>(receiverDepth(m.map, v, r.normal, b));
-  return {.cx = static_cast<double>(c.x),
-          .cy = static_cast<double>(c.y),
-          .zr = zr,
-          .biasZ = std::max(static_cast<double>(m.map.normalizedDepth(v.z)) - zr, 0.0),
-          .dr = static_cast<double>(v.z),
-          .sx = static_cast<double>(searchTan.x) * m.tpx,
-          .sy = static_cast<double>(searchTan.y) * m.tpy,
-          .plane = ReceiverPlane(view, v, r.normal, b),
-          .usePlane = usePlane};
+  ReceiverKernel k{.cx = static_cast<double>(c.x),
+                   .cy = static_cast<double>(c.y),
+                   .zr = zr,
+                   .biasZ = std::max(static_cast<double>(m.map.normalizedDepth(v.z)) - zr, 0.0),
+                   .dr = static_cast<double>(v.z),
+                   .sx = static_cast<double>(searchTan.x) * m.tpx,
+                   .sy = static_cast<double>(searchTan.y) * m.tpy,
+                   .plane = ReceiverPlane(view, v, r.normal, b),
+                   .usePlane = usePlane};
+  // Texel (x, y) is at tangents (tanLo.x + x / tpx, tanHi.y - y / tpy).
+  const TapPlane p = k.plane.tapPlane();
+  const auto d = [](float f) { return static_cast<double>(f); };
+  k.lx = d(p.a) / m.tpx;
+  k.ly = -d(p.b) / m.tpy;
+  k.l0 = d(p.a) * d(view.tanLo.x) + d(p.b) * d(view.tanHi.y) + d(p.c);
+  k.lo = d(p.lo), k.hi = d(p.hi), k.scale = d(p.scale);
+  k.znear = d(view.znear);
+  k.zNear = d(m.map.zNear);
+  k.invRange = 1.0 / (d(m.map.zFar) - d(m.map.zNear));
+  return k;
 }
 
 glm::dvec2 penumbraHalf(const PrefilterMap& m, const ShadowContext& ctx, const ReceiverKernel& k, double zb,

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <glm/ext/vector_double2.hpp>
 #include <glm/vec2.hpp>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -51,8 +52,14 @@ struct PrefilterMap {
   float zAt(double x, double y) const;
 };
 
-// Renders the map (times.msMaps) and builds the pyramid (times.msFilter).
-void preparePrefilterMap(ShadowContext& ctx, const ParamSet& params, PrefilterMap& m);
+// Renders the map (times.msMaps) and builds the pyramid (times.msFilter). What a technique does not
+// read is not made: without `moments`, only z is rendered (map.texels stays empty); without
+// `pyramid`, m.pyramid stays empty (zMin and zMax are found all the same).
+struct PrefilterNeeds {
+  bool moments = true, pyramid = true;
+};
+void preparePrefilterMap(ShadowContext& ctx, const ParamSet& params, PrefilterMap& m,
+                         PrefilterNeeds needs = {});
 
 // One receiver in the map.
 struct ReceiverKernel {
@@ -63,17 +70,19 @@ struct ReceiverKernel {
   double sx = 0, sy = 0;  // blocker search half-extents, texels
   ReceiverPlane plane;
   bool usePlane = false;
+  // The plane's threshold near / d (ReceiverPlane::threshold) as a function of texel coordinates,
+  // scale * clamp(lx x + ly y + l0, lo, hi), and the map's normalization of d: set by
+  // receiverKernel, read by zrAt (in double: no float conversions or divisions by the texel size).
+  double lx = 0, ly = 0, l0 = 0, lo = 0, hi = 0, scale = 0, znear = 0, zNear = 0, invRange = 1;
 
   // z_r at texel coordinates (x, y): the tangent plane's there with `receiver_plane`, else zr.
-  double zrAt(const PrefilterMap& m, double x, double y) const;
+  double zrAt(double x, double y) const;
 };
-inline double ReceiverKernel::zrAt(const PrefilterMap& m, double x, double y) const {
+inline double ReceiverKernel::zrAt(double x, double y) const {
   if (!usePlane) return zr;
-  const LightView& v = m.map.view;
-  const auto tx = static_cast<float>(static_cast<double>(v.tanLo.x) + x / m.tpx);
-  const auto ty = static_cast<float>(static_cast<double>(v.tanHi.y) - y / m.tpy);
-  const float t = plane.threshold(tx, ty);  // near / biased depth
-  return m.map.normalizedDepth(t > 0.0f ? v.znear / t : INFINITY);
+  const double t = scale * std::clamp(lx * x + ly * y + l0, lo, hi);  // near / biased depth
+  const double z = ((t > 0.0 ? znear / t : std::numeric_limits<double>::infinity()) - zNear) * invRange;
+  return z >= 0.0 ? std::min(z, 1.0) : (z < 0.0 ? 0.0 : 1.0);  // as MomentMap::normalizedDepth
 }
 
 ReceiverKernel receiverKernel(const PrefilterMap& m, const ShadowContext& ctx, const Receiver& r,
@@ -84,14 +93,14 @@ ReceiverKernel receiverKernel(const PrefilterMap& m, const ShadowContext& ctx, c
 struct PlaneBounds {
   double mn = 0, mx = 0, lo = 0, hi = 0;
 };
-inline PlaneBounds planeBounds(const PrefilterMap& m, const raster::MinMaxPyramid& pyramid, const ReceiverKernel& k,
-                               double x0, double y0, double x1, double y1) {
+inline PlaneBounds planeBounds(const raster::MinMaxPyramid& pyramid, const ReceiverKernel& k, double x0,
+                               double y0, double x1, double y1) {
   float mn = 0, mx = 0;
   int cov[4];
   raster::queryMinMax(pyramid, static_cast<int>(std::floor(x0)), static_cast<int>(std::floor(y0)),
                       static_cast<int>(std::ceil(x1)), static_cast<int>(std::ceil(y1)), mn, mx, cov);
-  const double p00 = k.zrAt(m, cov[0], cov[1]), p10 = k.zrAt(m, cov[2], cov[1]);
-  const double p01 = k.zrAt(m, cov[0], cov[3]), p11 = k.zrAt(m, cov[2], cov[3]);
+  const double p00 = k.zrAt(cov[0], cov[1]), p10 = k.zrAt(cov[2], cov[1]);
+  const double p01 = k.zrAt(cov[0], cov[3]), p11 = k.zrAt(cov[2], cov[3]);
   return {static_cast<double>(mn), static_cast<double>(mx), std::min(std::min(p00, p10), std::min(p01, p11)),
           std::max(std::max(p00, p10), std::max(p01, p11))};
 }

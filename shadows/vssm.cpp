@@ -82,10 +82,10 @@ class VarianceSat {
         const double sx0 = x0 + (x1 - x0) * i / n, sx1 = x0 + (x1 - x0) * (i + 1) / n;
         const double sy0 = y0 + (y1 - y0) * j / n, sy1 = y0 + (y1 - y0) * (j + 1) / n;
         const double mean = sums[(j * n + i) * 2] / a, meanSq = sums[(j * n + i) * 2 + 1] / a;
-        const double zc = k.zrAt(m_, 0.5 * (sx0 + sx1), 0.5 * (sy0 + sy1));
+        const double zc = k.zrAt(0.5 * (sx0 + sx1), 0.5 * (sy0 + sy1));
         double s = -1.0;
         if (bounds) {
-          const PlaneBounds pb = planeBounds(m_, m_.pyramid, k, sx0, sy0, sx1, sy1);
+          const PlaneBounds pb = planeBounds(m_.pyramid, k, sx0, sy0, sx1, sy1);
           if (pb.mn >= pb.hi)
             s = 1.0, ++counts.lit;
           else if (pb.mx < pb.lo)
@@ -192,7 +192,7 @@ class Savsm final : public Technique {
                      v = std::fmod(static_cast<double>(t.y) + oy, 1.0);
         const double tx = k.cx + (2.0 * u - 1.0) * k.sx, ty = k.cy + (2.0 * v - 1.0) * k.sy;
         const auto z = static_cast<double>(m.zAt(tx, ty));
-        if (z < k.zrAt(m, tx, ty)) sum += z, ++count;
+        if (z < k.zrAt(tx, ty)) sum += z, ++count;
       }
       if (count == 0) return 1.0f;
       const glm::dvec2 p = penumbraHalf(m, ctx, k, sum / count);

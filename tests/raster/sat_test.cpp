@@ -150,6 +150,32 @@ TEST(Sat, TiledQueriesSplitAtTileBordersAndSkippedTilesAreNeverRead) {
       }
     }
   }
+  // Grids of sub-boxes equal n x n separate queries, bounds included, across tile borders.
+  {
+    const TiledSat t = buildTiledSat(p, 24);  // 16-texel tiles: most boxes cross several
+    for (int n : {1, 3, 4}) {
+      for (const Box& b : boxes(300, 170, 17)) {
+        std::vector<double> g(static_cast<size_t>(n * n * 3)), area(static_cast<size_t>(n * n)),
+            bound(static_cast<size_t>(n * n * 3));
+        t.gridSums(b.x0, b.y0, b.x1, b.y1, n, g.data(), area.data(), bound.data());
+        double whole[3];
+        t.boxSum(b.x0, b.y0, b.x1, b.y1, whole);
+        for (int j = 0; j < n; ++j)
+          for (int i = 0; i < n; ++i) {
+            const double sx0 = b.x0 + (b.x1 - b.x0) * i / n, sx1 = b.x0 + (b.x1 - b.x0) * (i + 1) / n;
+            const double sy0 = b.y0 + (b.y1 - b.y0) * j / n, sy1 = b.y0 + (b.y1 - b.y0) * (j + 1) / n;
+            double o[3], ob[3];
+            const double a = t.boxSum(sx0, sy0, sx1, sy1, o, ob);
+            const auto k = static_cast<size_t>(j * n + i);
+            EXPECT_NEAR(area[k], a, 1e-9);
+            for (int c = 0; c < 3; ++c) {
+              EXPECT_NEAR(g[k * 3 + static_cast<size_t>(c)], o[c], 1e-12 * (1.0 + std::abs(whole[c]))) << n;
+              EXPECT_NEAR(bound[k * 3 + static_cast<size_t>(c)], ob[c], 1e-12 * (1.0 + ob[c])) << n;
+            }
+          }
+      }
+    }
+  }
   // Only the needed tiles are built; a query inside them is unaffected, one outside reads NaN.
   const int T = stgTileSize(20);
   const int tx = (300 + T - 1) / T, ty = (170 + T - 1) / T;
@@ -163,6 +189,14 @@ TEST(Sat, TiledQueriesSplitAtTileBordersAndSkippedTilesAreNeverRead) {
   for (int c = 0; c < 3; ++c) EXPECT_EQ(a[c], b[c]);
   part.boxSum(60.0, 2.0, 70.0, 3.0, a);
   EXPECT_TRUE(std::isnan(a[0]));
+  double g[9 * 3], ga[9];
+  part.gridSums(1.5, 2.5, 40.25, 33.0, 3, g, ga);
+  double sum[3] = {};
+  for (int k = 0; k < 9; ++k)
+    for (int c = 0; c < 3; ++c) sum[c] += g[k * 3 + c];
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c], b[c], 1e-9 * b[c]);
+  part.gridSums(30.0, 2.0, 70.0, 3.0, 3, g, ga);
+  EXPECT_TRUE(std::isnan(g[0]));
 }
 
 TEST(Sat, FourChannelMipsAreMeansAndTrilinearInterpolates) {

@@ -3,6 +3,8 @@
 // quads as casters. Checks: lit and blocked receivers, the closed form for one planar occluder,
 // range and finiteness under a huge depth range and near-contact, thread-count independence,
 // light bleeding, and parameter validation.
+#include "shadows/moments.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -185,6 +187,39 @@ TEST(Moments, OnePlanarOccluderIsGaussianPcf) {
     std::printf("[ moments ] %-5s one planar occluder: max |V - (1 - f)| = %.3g over %d penumbra receivers\n",
                 name, static_cast<double>(worst), penumbra);
   }
+}
+
+// The depth-only pass (for techniques that read z alone) writes the moment map's first channel,
+// texel for texel, with the same depth range, and leaves the moments empty.
+TEST(Moments, DepthOnlyPassIsTheMomentMapsFirstChannel) {
+  Scene s = planeScene(60, 2.0f, 4.0f);
+  s.quad(-0.53f, 0.47f, -0.45f, 0.55f, 2.0f);
+  s.quad(-2.5f, 0.1f, -0.3f, 1.7f, 3.5f);
+  const ShadowInputs in = s.inputs();
+  raster::Rasterizer raster(raster::RasterConfig{.threads = 2});
+  ShadowContext ctx{
+      .raster = raster, .in = in, .region = {}, .casters = {}, .times = {}, .notes = {}, .mapPasses = {}};
+  raster.run([&] { ctx.region = fitRegion(in.light, *in.receivers); });
+  ctx.casters = cullCasters(in.light, ctx.region, in.casters);
+  MomentMap full, depthOnly;
+  full.view = depthOnly.view = makeLightView(in.light, ctx.region, glm::vec2(0.0f), ctx.nearPlane(), 97, 83);
+  full.warp = depthOnly.warp = MomentWarp{.kind = MomentKind::Vsm, .cPos = 0.0f, .cNeg = 0.0f};
+  renderMomentMap(ctx, full);
+  raster::ImageFloat z;
+  renderNormalizedDepth(ctx, depthOnly, z);
+  EXPECT_EQ(full.zNear, depthOnly.zNear);
+  EXPECT_EQ(full.zFar, depthOnly.zFar);
+  EXPECT_TRUE(depthOnly.texels.empty());
+  ASSERT_EQ(z.width(), 97);
+  ASSERT_EQ(z.height(), 83);
+  int occluders = 0, mismatches = 0;
+  for (int y = 0; y < 83; ++y)
+    for (int x = 0; x < 97; ++x) {
+      mismatches += z.at(x, y) == full.texels.at(x, y).r ? 0 : 1;
+      occluders += z.at(x, y) < 0.6f ? 1 : 0;
+    }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(occluders, 100);  // both quads are drawn
 }
 
 // (b) Stress. A light 1e5 above the receivers with a caster 2 units from the light over x > 1
