@@ -41,7 +41,7 @@ struct KernelResult {
 };
 
 struct Counts {
-  size_t kernels = 0, pcf = 0, precision = 0, split = 0, contact = 0, receivers = 0;
+  size_t kernels = 0, pcf = 0, precision = 0, split = 0, contact = 0, receivers = 0, shrunk = 0;
 };
 
 constexpr int kMaxSub = 8;  // the subdivision parameter's range
@@ -56,6 +56,7 @@ class Essm final : public Technique {
     subdivide_ = params.choice("fallback") == "on";
     fallback_ = params.integer("fallback_taps");
     minMaxTest_ = params.choice("minmax_test") == "on";
+    hsm_ = params.choice("search") == "hsm";
     precisionTolerance_ = params.number("precision_tolerance");
     eps_ = params.number("nonplanar_epsilon");
     leakTolerance_ = params.number("leak_tolerance");
@@ -63,7 +64,7 @@ class Essm final : public Technique {
     rowHeight_ = params.number("rect_height");
     satKind_ = params.choice("sat");
     const int bits = params.integer("bits");
-    preparePrefilterMap(ctx, params, m_, {.moments = false, .pyramid = false});
+    preparePrefilterMap(ctx, params, m_, {.moments = false, .pyramid = hsm_});
 
     const auto t0 = Clock::now();
     const double range = std::max(static_cast<double>(m_.zMax) - static_cast<double>(m_.zMin), 1e-6);
@@ -106,7 +107,7 @@ class Essm final : public Technique {
               for (int y = 0; y < th; ++y)
                 for (int x = 0; x < tw; ++x) texel(m_.z.at(x0 + x, y0 + y), out + (y * tw + x) * kChannels);
             },
-            tilesReached(ctx, m_, bias_, T, tx, ty));
+            tilesReached(ctx, m_, bias_, T, tx, ty, hsm_));
         return;
       }
       raster::Planes<float> planes(w, h, kChannels);
@@ -154,7 +155,8 @@ class Essm final : public Technique {
     forEachReceiver(ctx, visibility, [&](int x, int y, const Receiver& r) {
       Counts& counts = counts_.local();
       ++counts.receivers;
-      const ReceiverKernel k = receiverKernel(m_, ctx, r, bias_, usePlane_);
+      ReceiverKernel k = receiverKernel(m_, ctx, r, bias_, usePlane_);
+      if (hsm_) counts.shrunk += shrinkSearchBox(m_, ctx, k) ? 1 : 0;
       // 1. Blocker search over the box kernel w_avg.
       const KernelResult b = kernel(k, k.cx - k.sx, k.cy - k.sy, k.cx + k.sx, k.cy + k.sy, n_, n_, counts);
       if (!(b.occWeight > 1e-7 * b.area)) return 1.0f;  // no blocker
@@ -184,7 +186,7 @@ class Essm final : public Technique {
     Counts total;
     for (const Counts& c : counts_)
       total.kernels += c.kernels, total.pcf += c.pcf, total.precision += c.precision, total.split += c.split,
-          total.contact += c.contact, total.receivers += c.receivers;
+          total.contact += c.contact, total.receivers += c.receivers, total.shrunk += c.shrunk;
     const auto pct = [&](size_t n) {
       return total.kernels ? 100.0 * static_cast<double>(n) / static_cast<double>(total.kernels) : 0.0;
     };
@@ -205,6 +207,16 @@ class Essm final : public Technique {
                                   : 0.0,
                   leakDepth_, leakTolerance_);
     ctx.notes.push_back(buf);
+    if (hsm_) {
+      std::snprintf(buf, sizeof buf,
+                    "essm: %zu of %zu receivers (%.2f%%) searched a smaller box than the near plane's: the "
+                    "nearest depth in it (min/max pyramid) bounds their blockers",
+                    total.shrunk, total.receivers,
+                    total.receivers
+                        ? 100.0 * static_cast<double>(total.shrunk) / static_cast<double>(total.receivers)
+                        : 0.0);
+      ctx.notes.push_back(buf);
+    }
   }
 
  private:
@@ -414,7 +426,8 @@ class Essm final : public Technique {
 
   PrefilterMap m_;
   BiasParams bias_;
-  bool usePlane_ = true, ellipse_ = false, subdivide_ = true, minMaxTest_ = true, adaptive_ = false;
+  bool usePlane_ = true, ellipse_ = false, subdivide_ = true, minMaxTest_ = true, adaptive_ = false,
+       hsm_ = true;
   int n_ = 3, fallback_ = 2;
   double behindTolerance_ = 0, precisionTolerance_ = 0.01, leakTolerance_ = 0.05, leakDepth_ = 0;
   raster::MinMaxPyramid occupied_;
@@ -501,6 +514,10 @@ TechniqueInfo essmTechnique() {
                .maxValue = 8,
                .choices = {},
                .help = "g: the fallback PCF's g x g taps per sub-kernel (the paper's 2)"});
+  p.push_back(
+      choiceParam("search", 0, {"hsm", "near"},
+                  "blocker search box: the light's frustum from the receiver cut at the nearest depth the "
+                  "min/max pyramid finds in it (HSM, refined up to 4 times), or at the near plane"));
   p.push_back({.name = "minmax_test",
                .kind = ParamKind::Choice,
                .defaultValue = 0,

@@ -97,8 +97,27 @@ glm::dvec2 penumbraHalf(const PrefilterMap& m, const ShadowContext& ctx, const R
   return {std::max(hx, minHalf), std::max(hy, minHalf)};
 }
 
+bool shrinkSearchBox(const PrefilterMap& m, const ShadowContext& ctx, ReceiverKernel& k) {
+  constexpr int kSteps = 4;
+  bool shrunk = false;
+  for (int i = 0; i < kSteps; ++i) {
+    float mn = 0, mx = 0;
+    raster::queryMinMax(m.pyramid, static_cast<int>(std::floor(k.cx - k.sx)),
+                        static_cast<int>(std::floor(k.cy - k.sy)), static_cast<int>(std::ceil(k.cx + k.sx)),
+                        static_cast<int>(std::ceil(k.cy + k.sy)), mn, mx);
+    if (!(mn >= 0.0f)) return shrunk;  // an empty query (a box off the map) or NaN: keep the box
+    const glm::dvec2 s = penumbraHalf(m, ctx, k, static_cast<double>(mn));
+    const double sx = std::min(s.x, k.sx), sy = std::min(s.y, k.sy);
+    const bool smaller = sx < 0.9 * k.sx || sy < 0.9 * k.sy;
+    shrunk |= sx < k.sx || sy < k.sy;
+    k.sx = sx, k.sy = sy;
+    if (!smaller) break;
+  }
+  return shrunk;
+}
+
 std::vector<uint8_t> tilesReached(ShadowContext& ctx, const PrefilterMap& m, BiasParams b, int tile,
-                                  int tilesX, int tilesY) {
+                                  int tilesX, int tilesY, bool hsm) {
   std::vector<uint8_t> reached(static_cast<size_t>(tilesX) * static_cast<size_t>(tilesY), 0);
   const ReceiverImage& rec = *ctx.in.receivers;
   const glm::vec3 n = ctx.in.light.normal(), c = ctx.in.light.center;
@@ -108,7 +127,8 @@ std::vector<uint8_t> tilesReached(ShadowContext& ctx, const PrefilterMap& m, Bia
         for (int x = 0; x < rec.width(); ++x) {
           const Receiver& r = rec.at(x, y);
           if (!r.valid || !(glm::dot(r.position - c, n) > 0.0f)) continue;
-          const ReceiverKernel k = receiverKernel(m, ctx, r, b, false);
+          ReceiverKernel k = receiverKernel(m, ctx, r, b, false);
+          if (hsm) shrinkSearchBox(m, ctx, k);
           // One texel of margin for the PCF taps and the half-texel minimum kernel.
           const auto clampTile = [&](double t, int count) {
             return static_cast<int>(std::clamp(std::floor(t / tile), 0.0, static_cast<double>(count - 1)));

@@ -109,10 +109,17 @@ inline PlaneBounds planeBounds(const raster::MinMaxPyramid& pyramid, const Recei
 glm::dvec2 penumbraHalf(const PrefilterMap& m, const ShadowContext& ctx, const ReceiverKernel& k, double zb,
                         double minHalf = 0.5);
 
-// Which tiles of a tile grid (tile x tile texels) the search boxes of the receivers reach; counts
-// the receivers scanned. Marks are byte stores of 1 (order-independent, deterministic).
+// HSM (needs m.pyramid): no blocker in k's search box is nearer than the smallest depth the
+// min/max pyramid finds over it, so the light's frustum from the receiver cut at that depth
+// (smaller than at the near plane) holds every blocker; repeated (up to 4 times) while the box
+// shrinks by more than 10%. True when it shrank.
+bool shrinkSearchBox(const PrefilterMap& m, const ShadowContext& ctx, ReceiverKernel& k);
+
+// Which tiles of a tile grid (tile x tile texels) the search boxes of the receivers reach (shrunk
+// by shrinkSearchBox with `hsm`); counts the receivers scanned. Marks are byte stores of 1
+// (order-independent, deterministic).
 std::vector<uint8_t> tilesReached(ShadowContext& ctx, const PrefilterMap& m, BiasParams b, int tile,
-                                  int tilesX, int tilesY);
+                                  int tilesX, int tilesY, bool hsm = false);
 
 // The parameters of the SAT techniques: the depth map's, "receiver_plane" (on/off) and
 // "subdivision" (n x n sub-kernels, 1 = none).
