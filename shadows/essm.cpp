@@ -514,10 +514,7 @@ TechniqueInfo essmTechnique() {
                .maxValue = 8,
                .choices = {},
                .help = "g: the fallback PCF's g x g taps per sub-kernel (the paper's 2)"});
-  p.push_back(
-      choiceParam("search", 0, {"hsm", "near"},
-                  "blocker search box: the light's frustum from the receiver cut at the nearest depth the "
-                  "min/max pyramid finds in it (HSM, refined up to 4 times), or at the near plane"));
+  p.push_back(searchParam());
   p.push_back({.name = "minmax_test",
                .kind = ParamKind::Choice,
                .defaultValue = 0,
@@ -556,7 +553,7 @@ TechniqueInfo essmTechnique() {
               "exponential soft shadow mapping: ESM and ESM-Z summed-area tables, constant-time blocker "
               "search and filter, micro-subdivision",
           .params = std::move(p),
-          .benchSettings = {"", "sat=integer", "kernel=ellipse", "subdivision=1"},
+          .benchSettings = {"", "sat=integer", "kernel=ellipse", "subdivision=1", "search=near"},
           .isReference = false,
           .make = [] { return std::make_unique<Essm>(); },
           .peakBytes =

@@ -170,6 +170,12 @@ std::vector<ParamSpec> prefilterParams(int defaultSubdivision) {
   return p;
 }
 
+ParamSpec searchParam(int defaultIndex) {
+  return choiceParam("search", defaultIndex, {"hsm", "near"},
+                     "blocker search box: the light's frustum from the receiver cut at the nearest depth the "
+                     "min/max pyramid finds in it (HSM, refined up to 4 times), or at the near plane");
+}
+
 std::string tileNote(size_t built, size_t total) {
   char buf[96];
   std::snprintf(buf, sizeof buf,

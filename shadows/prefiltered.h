@@ -125,6 +125,9 @@ std::vector<uint8_t> tilesReached(ShadowContext& ctx, const PrefilterMap& m, Bia
 // "subdivision" (n x n sub-kernels, 1 = none).
 std::vector<ParamSpec> prefilterParams(int defaultSubdivision);
 
+// "search": hsm (shrinkSearchBox) or near (the frustum cut at the near plane); defaultIndex 0 or 1.
+ParamSpec searchParam(int defaultIndex = 0);
+
 // "n of m tiles (p%) built" for notes.
 std::string tileNote(size_t built, size_t total);
 

@@ -33,6 +33,7 @@ class VarianceSat {
     minVariance_ = params.number("min_variance");
     bleed_ = params.number("bleed_reduction");
     floatSat_ = params.choice("sat") == "float";
+    hsm_ = params.choice("search") == "hsm";
     preparePrefilterMap(ctx, params, m_);
     const auto t0 = Clock::now();
     const int w = m_.z.width(), h = m_.z.height();
@@ -60,7 +61,9 @@ class VarianceSat {
   }
 
   ReceiverKernel receiver(const ShadowContext& ctx, const Receiver& r) const {
-    return receiverKernel(m_, ctx, r, bias_, usePlane_);
+    ReceiverKernel k = receiverKernel(m_, ctx, r, bias_, usePlane_);
+    if (hsm_) shrinkSearchBox(m_, ctx, k);
+    return k;
   }
   const PrefilterMap& map() const { return m_; }
 
@@ -107,7 +110,7 @@ class VarianceSat {
  private:
   PrefilterMap m_;
   BiasParams bias_;
-  bool usePlane_ = true, floatSat_ = false;
+  bool usePlane_ = true, floatSat_ = false, hsm_ = true;
   double minVariance_ = 1e-5, bleed_ = 0;
   raster::MultiSat<double> double_;
   raster::MultiSat<float> float_;
@@ -123,6 +126,7 @@ std::vector<ParamSpec> varianceParams(int defaultSubdivision) {
                .maxValue = 1,
                .choices = {"double", "float"},
                .help = "summed-area table precision"});
+  p.push_back(searchParam());
   return p;
 }
 
@@ -223,7 +227,7 @@ TechniqueInfo vssmTechnique() {
           "variance soft shadow mapping: (z, z^2) summed-area table, Chebyshev blocker search and filter, "
           "kernel subdivision with min/max bounds",
       .params = std::move(p),
-      .benchSettings = {"", "subdivision=1", "subdivision=8", "minmax=off"},
+      .benchSettings = {"", "subdivision=1", "subdivision=8", "minmax=off", "search=near"},
       .isReference = false,
       .make = [] { return std::make_unique<Vssm>(); },
       .peakBytes = satBytes};

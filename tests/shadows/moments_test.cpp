@@ -2,7 +2,8 @@
 // built by hand: a receiver plane y = 0 seen straight down by a 1 x 1 light facing -y, horizontal
 // quads as casters. Checks: lit and blocked receivers, the closed form for one planar occluder,
 // range and finiteness under a huge depth range and near-contact, thread-count independence,
-// light bleeding, and parameter validation.
+// light bleeding, and parameter validation; the depth-only pass and the HSM search boxes of the
+// summed-area-table techniques (shadows/prefiltered.h), which share this pass.
 #include "shadows/moments.h"
 
 #include <gtest/gtest.h>
@@ -17,6 +18,7 @@
 #include "raster/kernels.h"
 #include "shadows/area_light.h"
 #include "shadows/light_view.h"
+#include "shadows/prefiltered.h"
 #include "shadows/shadow_map.h"
 #include "shadows/technique.h"
 
@@ -220,6 +222,56 @@ TEST(Moments, DepthOnlyPassIsTheMomentMapsFirstChannel) {
     }
   EXPECT_EQ(mismatches, 0);
   EXPECT_GT(occluders, 100);  // both quads are drawn
+}
+
+// HSM: a search box shrunk by the min/max pyramid still holds every texel that can block the
+// receiver (one in front of it, inside the light's frustum from the receiver cut at the texel's own
+// depth), and it does shrink where the near plane's box is loose. Occluders near the light over
+// half the scene, one at mid height, one near the receivers.
+TEST(Moments, HsmSearchBoxesHoldEveryTexelThatCanBlock) {
+  Scene s = planeScene(40, 2.0f, 4.0f);
+  s.quad(-2.5f, -0.2f, -0.3f, 1.7f, 3.5f);
+  s.quad(-0.53f, 0.47f, -0.45f, 0.55f, 2.0f);
+  s.quad(0.6f, 1.4f, -1.2f, -0.4f, 0.4f);
+  const ShadowInputs in = s.inputs();
+  raster::Rasterizer raster(raster::RasterConfig{.threads = 2});
+  ShadowContext ctx{
+      .raster = raster, .in = in, .region = {}, .casters = {}, .times = {}, .notes = {}, .mapPasses = {}};
+  raster.run([&] { ctx.region = fitRegion(in.light, *in.receivers); });
+  ctx.casters = cullCasters(in.light, ctx.region, in.casters);
+  const std::vector<ParamSpec> specs = prefilterParams(3);  // ParamSet keeps a reference
+  ParamSet params(specs);
+  ASSERT_FALSE(params.setAll("map_size=96"));
+  PrefilterMap m;
+  preparePrefilterMap(ctx, params, m);
+  const BiasParams bias = biasParams(params);
+  int shrunk = 0, checked = 0, outside = 0;
+  for (int y = 0; y < s.receivers.height(); ++y)
+    for (int x = 0; x < s.receivers.width(); ++x) {
+      const ReceiverKernel near = receiverKernel(m, ctx, s.receivers.at(x, y), bias, false);
+      ReceiverKernel k = near;
+      shrunk += shrinkSearchBox(m, ctx, k) ? 1 : 0;
+      ASSERT_LE(k.sx, near.sx);
+      ASSERT_LE(k.sy, near.sy);
+      const int i0 = std::max(0, static_cast<int>(std::floor(near.cx - near.sx)));
+      const int i1 = std::min(m.z.width() - 1, static_cast<int>(std::ceil(near.cx + near.sx)));
+      const int j0 = std::max(0, static_cast<int>(std::floor(near.cy - near.sy)));
+      const int j1 = std::min(m.z.height() - 1, static_cast<int>(std::ceil(near.cy + near.sy)));
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) {
+          const float z = m.z.at(i, j);
+          if (!(static_cast<double>(z) < near.zr)) continue;  // not in front of the receiver
+          const glm::dvec2 reach = penumbraHalf(m, ctx, near, static_cast<double>(z), 0.0);
+          const double dx = std::abs(i + 0.5 - near.cx), dy = std::abs(j + 0.5 - near.cy);
+          if (dx > reach.x || dy > reach.y) continue;  // cannot block: outside the frustum at its depth
+          ++checked;
+          // Its texel square meets the shrunk box.
+          outside += (dx > k.sx + 0.5 || dy > k.sy + 0.5) ? 1 : 0;
+        }
+    }
+  EXPECT_EQ(outside, 0);
+  EXPECT_GT(checked, 10000);
+  EXPECT_GT(shrunk, s.receivers.width() * s.receivers.height() / 4);
 }
 
 // (b) Stress. A light 1e5 above the receivers with a caster 2 units from the light over x > 1
