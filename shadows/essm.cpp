@@ -25,11 +25,14 @@ struct BoxSums {
   double errE = 0;  // bound on the error of e (the table's quantization or rounding)
 };
 
-// log(sinh(u) / u), u >= 0, without overflow.
-double logSinhc(double u) {
-  if (u < 1e-4) return u * u / 6.0;
-  return u + std::log1p(-std::exp(-2.0 * u)) - std::log(2.0 * u);
+// u / sinh(u) = e^-u f(u) with f(u) = 2u / (1 - e^-2u), u >= 0: the caller folds e^-u into its one
+// exp, so no term overflows (f(u) <= 1 + 2u; f(0) = 1).
+double sinhcRest(double u) {
+  return u > 0.0 ? 2.0 * u / -std::expm1(-2.0 * u) : 1.0;
 }
+
+// The receiver factor's cap, e^700 (receivers nearer than every caster): no overflow.
+const double kMaxFactor = std::exp(700.0);
 
 // What a kernel gives: sum of A s, of A (E[z] - k E[e z]) (the blockers' depth times their
 // weight) and of A (1 - s) (their weight), over its (sub-)kernels.
@@ -62,7 +65,11 @@ class Essm final : public Technique {
     leakTolerance_ = params.number("leak_tolerance");
     ellipse_ = params.choice("kernel") == "ellipse";
     rowHeight_ = params.number("rect_height");
-    satKind_ = params.choice("sat");
+    satName_ = params.choice("sat");
+    sat_ = satName_ == "tiled"     ? Sat::Tiled
+           : satName_ == "integer" ? Sat::Integer
+           : satName_ == "double"  ? Sat::Double
+                                   : Sat::Float;
     const int bits = params.integer("bits");
     preparePrefilterMap(ctx, params, m_, {.moments = false, .pyramid = hsm_});
 
@@ -96,7 +103,7 @@ class Essm final : public Technique {
         });
         occupied_ = raster::buildMinMaxPyramid(occupiedZ);
       }
-      if (satKind_ == "tiled") {
+      if (sat_ == Sat::Tiled) {
         // Straight from the depths, tile by tile: texels no receiver's kernel reaches are never
         // computed (nor the whole map's channels stored).
         const int T = raster::stgTileSize(bits);
@@ -115,7 +122,7 @@ class Essm final : public Technique {
         for (int y = r.begin(); y < r.end(); ++y)
           for (int x = 0; x < w; ++x) texel(m_.z.at(x, y), planes.pixel(x, y));
       });
-      if (satKind_ == "integer") {
+      if (sat_ == Sat::Integer) {
         // The paper's normalization (section 6.2): each channel's range over the map to [0, 1].
         // Empty texels hold 0 in every channel, so every range starts at 0.
         const auto zHi = static_cast<double>(m_.zMax);
@@ -125,7 +132,7 @@ class Essm final : public Technique {
         for (int k = 0; k < kChannels; ++k)
           step_[static_cast<size_t>(k)] = (hi[static_cast<size_t>(k)] - lo_[static_cast<size_t>(k)]) / maxQ;
         integer_ = raster::buildSatInteger(raster::quantizePlanes(planes, lo_, hi, bits));
-      } else if (satKind_ == "double") {
+      } else if (sat_ == Sat::Double) {
         double_ = raster::buildSatDouble(planes);
       } else {
         float_ = raster::buildSatFloat(planes);
@@ -138,10 +145,10 @@ class Essm final : public Technique {
         buf, sizeof buf,
         "essm: map %d^2, z in [%.4f, %.4f], c = %.1f, %s SAT of (e, e z, z), %s kernel, subdivision %dx%d "
         "(eps %g)",
-        w, static_cast<double>(m_.zMin), static_cast<double>(m_.zMax), c_, satKind_.c_str(),
+        w, static_cast<double>(m_.zMin), static_cast<double>(m_.zMax), c_, satName_.c_str(),
         ellipse_ ? "ellipse" : "box", n_, n_, eps_);
     ctx.notes.push_back(buf);
-    if (satKind_ == "tiled")
+    if (sat_ == Sat::Tiled)
       ctx.notes.push_back("essm: SAT tile grid " + std::to_string(tiled_.tile) + "^2 tiles, mu " +
                           std::to_string(bits) + " bits: " +
                           tileNote(tiled_.tilesBuilt,
@@ -225,16 +232,16 @@ class Essm final : public Technique {
     double o[kMaxSub * kMaxSub * kChannels], area[kMaxSub * kMaxSub], err[kMaxSub * kMaxSub] = {};
     const int parts = nx * ny;
     double whole[kChannels] = {};
-    if (satKind_ == "double") double_.roundingBound(x1, y1, whole);
-    if (satKind_ == "float") float_.roundingBound(x1, y1, whole);
+    if (sat_ == Sat::Double) double_.roundingBound(x1, y1, whole);
+    if (sat_ == Sat::Float) float_.roundingBound(x1, y1, whole);
     if (nx == ny) {
-      if (satKind_ == "tiled") {
+      if (sat_ == Sat::Tiled) {
         double bound[kMaxSub * kMaxSub * kChannels];
         tiled_.gridSums(x0, y0, x1, y1, nx, o, area, bound);
         for (int i = 0; i < parts; ++i) err[i] = bound[i * kChannels];
-      } else if (satKind_ == "integer")
+      } else if (sat_ == Sat::Integer)
         integer_.gridSums(x0, y0, x1, y1, nx, o, area);
-      else if (satKind_ == "double")
+      else if (sat_ == Sat::Double)
         double_.gridSums(x0, y0, x1, y1, nx, o, area);
       else
         float_.gridSums(x0, y0, x1, y1, nx, o, area);
@@ -246,11 +253,11 @@ class Essm final : public Technique {
           double* d = o + (j * nx + i) * kChannels;
           double& a = area[j * nx + i];
           double bound[kChannels];
-          if (satKind_ == "tiled")
+          if (sat_ == Sat::Tiled)
             a = tiled_.boxSum(sx0, sy0, sx1, sy1, d, bound), err[j * nx + i] = bound[0];
-          else if (satKind_ == "integer")
+          else if (sat_ == Sat::Integer)
             a = integer_.boxSum(sx0, sy0, sx1, sy1, d);
-          else if (satKind_ == "double")
+          else if (sat_ == Sat::Double)
             a = double_.boxSum(sx0, sy0, sx1, sy1, d);
           else
             a = float_.boxSum(sx0, sy0, sx1, sy1, d);
@@ -258,11 +265,11 @@ class Essm final : public Technique {
     }
     for (int i = 0; i < parts; ++i) {
       double* d = o + i * kChannels;
-      if (satKind_ == "integer")  // fixed point back to values (the step per channel; ranges start at 0)
+      if (sat_ == Sat::Integer)  // fixed point back to values (the step per channel; ranges start at 0)
         for (int c = 0; c < kChannels; ++c) d[c] *= step_[static_cast<size_t>(c)];
-      const double e = satKind_ == "tiled"     ? err[i]
-                       : satKind_ == "integer" ? 0.5 * step_[0] * area[i]
-                                               : whole[0];
+      const double e = sat_ == Sat::Tiled     ? err[i]
+                       : sat_ == Sat::Integer ? 0.5 * step_[0] * area[i]
+                                              : whole[0];
       out[i] = {area[i], d[0], d[1], d[2], d[3], e};
     }
   }
@@ -284,13 +291,16 @@ class Essm final : public Technique {
     const double zc = k.zrAt(cx, cy);
     // Against the unbiased plane (zc + biasZ): the receiver's own surface reads 1, not
     // exp(c biasZ), which would brighten every partly blocked kernel by that factor.
-    double logK = c_ * (static_cast<double>(m_.zMax) - zc - k.biasZ);
+    double logK = c_ * (static_cast<double>(m_.zMax) - zc - k.biasZ), rest = 1.0;
     if (k.usePlane) {
+      // Divided by sinh(ux) / ux and sinh(uy) / uy: e^-(ux + uy) in the exponent, the rest after.
       const double gx = 0.5 * (k.zrAt(cx + 1.0, cy) - k.zrAt(cx - 1.0, cy));
       const double gy = 0.5 * (k.zrAt(cx, cy + 1.0) - k.zrAt(cx, cy - 1.0));
-      logK -= logSinhc(c_ * std::abs(gx) * 0.5 * (x1 - x0)) + logSinhc(c_ * std::abs(gy) * 0.5 * (y1 - y0));
+      const double ux = c_ * std::abs(gx) * 0.5 * (x1 - x0), uy = c_ * std::abs(gy) * 0.5 * (y1 - y0);
+      logK -= ux + uy;
+      rest = sinhcRest(ux) * sinhcRest(uy);
     }
-    const double kf = std::exp(std::min(logK, 700.0));  // receivers nearer than every caster: no overflow
+    const double kf = std::min(std::exp(std::min(logK, 700.0)) * rest, kMaxFactor);
     const double raw = (kf * s.e + (s.area - s.o)) / s.area;  // unclamped
     planar = raw <= 1.0 + eps_ && std::isfinite(raw);
     // The table cannot resolve this receiver's neighbourhood: its error bound, scaled as the test
@@ -432,7 +442,8 @@ class Essm final : public Technique {
   double behindTolerance_ = 0, precisionTolerance_ = 0.01, leakTolerance_ = 0.05, leakDepth_ = 0;
   raster::MinMaxPyramid occupied_;
   double eps_ = 0.02, rowHeight_ = 5, c_ = 1;
-  std::string satKind_;
+  enum class Sat { Tiled, Integer, Double, Float } sat_ = Sat::Tiled;
+  std::string satName_;
   raster::TiledSat tiled_;
   raster::MultiSat<uint64_t> integer_;
   raster::MultiSat<double> double_;
