@@ -460,6 +460,10 @@ void tiledGridSums(const TiledSat& t, double x0, double y0, double x1, double y1
         const double fy = ly[l] - iy;            // 0 at y = th
         for (int k = 0; k <= mx; ++k) {
           double* d = r + (l * (mx + 1) + k) * ch;
+          if (lx[k] == 0.0 || ly[l] == 0.0) {  // the tile's first column or row: R = 0
+            std::fill(d, d + ch, 0.0);
+            continue;
+          }
           const int ix = static_cast<int>(lx[k]);
           const double fx = lx[k] - ix;
           const uint32_t* e00 = entry(ix, iy);
