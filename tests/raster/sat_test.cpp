@@ -52,6 +52,12 @@ std::vector<Box> boxes(int w, int h, uint32_t seed) {
   return out;
 }
 
+// Sub-box (i, j) of b split into n x n equal parts.
+Box subBox(const Box& b, int n, int i, int j) {
+  return {b.x0 + (b.x1 - b.x0) * i / n, b.y0 + (b.y1 - b.y0) * j / n, b.x0 + (b.x1 - b.x0) * (i + 1) / n,
+          b.y0 + (b.y1 - b.y0) * (j + 1) / n};
+}
+
 TEST(Sat, BoxSumsAreTheAreaWeightedIntegralInEveryPrecision) {
   const Planes<float> p = randomPlanes(37, 23, 3, 7);
   const MultiSat<double> d = buildSatDouble(p);
@@ -97,10 +103,9 @@ TEST(Sat, IntegerTableIsExactAndGridSumsMatchSeparateQueries) {
       t.boxSum(b.x0, b.y0, b.x1, b.y1, whole);
       for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
-          const double sx0 = b.x0 + (b.x1 - b.x0) * i / n, sx1 = b.x0 + (b.x1 - b.x0) * (i + 1) / n;
-          const double sy0 = b.y0 + (b.y1 - b.y0) * j / n, sy1 = b.y0 + (b.y1 - b.y0) * (j + 1) / n;
+          const Box sb = subBox(b, n, i, j);
           double o[2];
-          const double a = t.boxSum(sx0, sy0, sx1, sy1, o);
+          const double a = t.boxSum(sb.x0, sb.y0, sb.x1, sb.y1, o);
           EXPECT_NEAR(area[static_cast<size_t>(j * n + i)], a, 1e-9);
           for (int c = 0; c < 2; ++c)
             EXPECT_NEAR(g[static_cast<size_t>((j * n + i) * 2 + c)], o[c], 1e-12 * (1.0 + whole[c])) << n;
@@ -162,10 +167,9 @@ TEST(Sat, TiledQueriesSplitAtTileBordersAndSkippedTilesAreNeverRead) {
         t.boxSum(b.x0, b.y0, b.x1, b.y1, whole);
         for (int j = 0; j < n; ++j)
           for (int i = 0; i < n; ++i) {
-            const double sx0 = b.x0 + (b.x1 - b.x0) * i / n, sx1 = b.x0 + (b.x1 - b.x0) * (i + 1) / n;
-            const double sy0 = b.y0 + (b.y1 - b.y0) * j / n, sy1 = b.y0 + (b.y1 - b.y0) * (j + 1) / n;
+            const Box sb = subBox(b, n, i, j);
             double o[3], ob[3];
-            const double a = t.boxSum(sx0, sy0, sx1, sy1, o, ob);
+            const double a = t.boxSum(sb.x0, sb.y0, sb.x1, sb.y1, o, ob);
             const auto k = static_cast<size_t>(j * n + i);
             EXPECT_NEAR(area[k], a, 1e-9);
             for (int c = 0; c < 3; ++c) {

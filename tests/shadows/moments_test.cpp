@@ -75,6 +75,20 @@ ShadowResult shade(const Scene& s, const char* name, const std::string& settings
   return r;
 }
 
+// What the driver sets up for a technique on one light: the region fitted to the receivers, the
+// casters culled to it (for tests that call the shared passes directly).
+struct LightSetup {
+  ShadowInputs in;
+  raster::Rasterizer raster{raster::RasterConfig{.threads = 2}};
+  ShadowContext ctx{
+      .raster = raster, .in = in, .region = {}, .casters = {}, .times = {}, .notes = {}, .mapPasses = {}};
+
+  explicit LightSetup(const Scene& s) : in(s.inputs()) {
+    raster.run([&] { ctx.region = fitRegion(in.light, *in.receivers); });
+    ctx.casters = cullCasters(in.light, ctx.region, in.casters);
+  }
+};
+
 // Smallest and largest V over the receivers whose position satisfies `in` (count: how many), after
 // checking that every value of the image is finite and in [0, 1].
 struct Span {
@@ -142,12 +156,9 @@ TEST(Moments, OnePlanarOccluderIsGaussianPcf) {
   s.quad(-0.53f, 0.47f, -0.45f, 0.55f, 2.0f);
   const int size = 128;
   const float sigma = 3.0f;
-  const ShadowInputs in = s.inputs();
-  raster::Rasterizer raster(raster::RasterConfig{.threads = 2});
-  ShadowContext ctx{
-      .raster = raster, .in = in, .region = {}, .casters = {}, .times = {}, .notes = {}, .mapPasses = {}};
-  raster.run([&] { ctx.region = fitRegion(in.light, *in.receivers); });
-  ctx.casters = cullCasters(in.light, ctx.region, in.casters);
+  LightSetup setup(s);
+  const ShadowInputs& in = setup.in;
+  ShadowContext& ctx = setup.ctx;
   ShadowMap hard;
   hard.view = makeLightView(in.light, ctx.region, glm::vec2(0.0f), ctx.nearPlane(), size, size);
   renderDepthMap(ctx, hard);
@@ -160,7 +171,7 @@ TEST(Moments, OnePlanarOccluderIsGaussianPcf) {
       covered += d < 3.0f ? 1 : 0;
     }
   ASSERT_GT(covered, 500);
-  raster.run([&] { raster::gaussianBlur(mask, mask, sigma); });
+  setup.raster.run([&] { raster::gaussianBlur(mask, mask, sigma); });
   auto coverage = [&](glm::vec2 m) {  // bilinear, clamped to the edge texels
     const float u = std::clamp(m.x - 0.5f, 0.0f, static_cast<float>(size - 1));
     const float v = std::clamp(m.y - 0.5f, 0.0f, static_cast<float>(size - 1));
@@ -197,12 +208,9 @@ TEST(Moments, DepthOnlyPassIsTheMomentMapsFirstChannel) {
   Scene s = planeScene(60, 2.0f, 4.0f);
   s.quad(-0.53f, 0.47f, -0.45f, 0.55f, 2.0f);
   s.quad(-2.5f, 0.1f, -0.3f, 1.7f, 3.5f);
-  const ShadowInputs in = s.inputs();
-  raster::Rasterizer raster(raster::RasterConfig{.threads = 2});
-  ShadowContext ctx{
-      .raster = raster, .in = in, .region = {}, .casters = {}, .times = {}, .notes = {}, .mapPasses = {}};
-  raster.run([&] { ctx.region = fitRegion(in.light, *in.receivers); });
-  ctx.casters = cullCasters(in.light, ctx.region, in.casters);
+  LightSetup setup(s);
+  const ShadowInputs& in = setup.in;
+  ShadowContext& ctx = setup.ctx;
   MomentMap full, depthOnly;
   full.view = depthOnly.view = makeLightView(in.light, ctx.region, glm::vec2(0.0f), ctx.nearPlane(), 97, 83);
   full.warp = depthOnly.warp = MomentWarp{.kind = MomentKind::Vsm, .cPos = 0.0f, .cNeg = 0.0f};
@@ -233,12 +241,8 @@ TEST(Moments, HsmSearchBoxesHoldEveryTexelThatCanBlock) {
   s.quad(-2.5f, -0.2f, -0.3f, 1.7f, 3.5f);
   s.quad(-0.53f, 0.47f, -0.45f, 0.55f, 2.0f);
   s.quad(0.6f, 1.4f, -1.2f, -0.4f, 0.4f);
-  const ShadowInputs in = s.inputs();
-  raster::Rasterizer raster(raster::RasterConfig{.threads = 2});
-  ShadowContext ctx{
-      .raster = raster, .in = in, .region = {}, .casters = {}, .times = {}, .notes = {}, .mapPasses = {}};
-  raster.run([&] { ctx.region = fitRegion(in.light, *in.receivers); });
-  ctx.casters = cullCasters(in.light, ctx.region, in.casters);
+  LightSetup setup(s);
+  ShadowContext& ctx = setup.ctx;
   const std::vector<ParamSpec> specs = prefilterParams(3);  // ParamSet keeps a reference
   ParamSet params(specs);
   ASSERT_FALSE(params.setAll("map_size=96"));
