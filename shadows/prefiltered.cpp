@@ -100,11 +100,12 @@ glm::dvec2 penumbraHalf(const PrefilterMap& m, const ShadowContext& ctx, const R
 bool shrinkSearchBox(const PrefilterMap& m, const ShadowContext& ctx, ReceiverKernel& k) {
   constexpr int kSteps = 4;
   bool shrunk = false;
+  // Texel indices of a box edge, kept in int range (the query clamps to the map).
+  const auto texel = [](double t) { return static_cast<int>(std::clamp(t, -0x1p30, 0x1p30)); };
   for (int i = 0; i < kSteps; ++i) {
     float mn = 0, mx = 0;
-    raster::queryMinMax(m.pyramid, static_cast<int>(std::floor(k.cx - k.sx)),
-                        static_cast<int>(std::floor(k.cy - k.sy)), static_cast<int>(std::ceil(k.cx + k.sx)),
-                        static_cast<int>(std::ceil(k.cy + k.sy)), mn, mx);
+    raster::queryMinMax(m.pyramid, texel(std::floor(k.cx - k.sx)), texel(std::floor(k.cy - k.sy)),
+                        texel(std::ceil(k.cx + k.sx)), texel(std::ceil(k.cy + k.sy)), mn, mx);
     if (!(mn >= 0.0f)) return shrunk;  // an empty query (a box off the map) or NaN: keep the box
     const glm::dvec2 s = penumbraHalf(m, ctx, k, static_cast<double>(mn));
     const double sx = std::min(s.x, k.sx), sy = std::min(s.y, k.sy);
