@@ -128,13 +128,27 @@ ReceiverImage planeReceivers(int w, int h, float half, float y = 0.0f) {
   return r;
 }
 
-TEST(LightView, RegionCullingAndProjection) {
-  RectLight l;
-  ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, l));
-  raster::Rasterizer raster({.threads = 2});
-  const ReceiverImage rec = planeReceivers(16, 16, 2.0f);
+// A 1 x 1 light at height 4 facing down over planeReceivers(n, n, half) on y = 0, and the region
+// fitted to them.
+struct LitPlane {
+  RectLight light;
+  ReceiverImage receivers;
   LightRegion region;
-  raster.run([&] { region = fitRegion(l, rec); });
+};
+LitPlane litPlane(raster::Rasterizer& raster, int n, float half) {
+  LitPlane p;
+  EXPECT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, p.light));
+  p.receivers = planeReceivers(n, n, half);
+  raster.run([&] { p.region = fitRegion(p.light, p.receivers); });
+  return p;
+}
+
+TEST(LightView, RegionCullingAndProjection) {
+  raster::Rasterizer raster({.threads = 2});
+  const LitPlane lit = litPlane(raster, 16, 2.0f);
+  const RectLight& l = lit.light;
+  const ReceiverImage& rec = lit.receivers;
+  const LightRegion& region = lit.region;
   ASSERT_FALSE(region.empty);
   EXPECT_EQ(region.receivers, 256u);
   EXPECT_NEAR(region.hi.z, 4.0f, 1e-5f);
@@ -175,12 +189,10 @@ TEST(LightView, RegionCullingAndProjection) {
 
 TEST(LightView, CutToTheCastersCoversThemAndLeavesTheBorderEmpty) {
   // A wide ground (8 x 8) under a 1 x 1 light at height 4, one small caster (0.4 wide, height 2).
-  RectLight l;
-  ASSERT_TRUE(makeRectLight({0, 4, 0}, {0, -1, 0}, {1, 0, 0}, 1.0f, 1.0f, glm::vec3(1), 1.0f, l));
   raster::Rasterizer raster({.threads = 2});
-  const ReceiverImage rec = planeReceivers(32, 32, 4.0f);
-  LightRegion region;
-  raster.run([&] { region = fitRegion(l, rec); });
+  const LitPlane lit = litPlane(raster, 32, 4.0f);
+  const RectLight& l = lit.light;
+  const LightRegion& region = lit.region;
   const std::vector<glm::vec3> pos = {{-0.2f, 2, -0.2f}, {0.2f, 2, -0.2f}, {0, 2, 0.2f}};
   const std::vector<uint32_t> idx = {0, 1, 2};
   const CasterSet cs = cullCasters(l, region, {pos, idx});
